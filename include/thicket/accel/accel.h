@@ -1,0 +1,98 @@
+#pragma once
+/// The one interface every acceleration structure implements: bounds, closest hit, any hit,
+/// statistics. Structures are interchangeable behind it; the per-ray virtual call is the only
+/// indirection (never per node). For the last few percent, use a structure's class directly.
+#include <cstddef>
+#include <cstdint>
+#include <iosfwd>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "thicket/core/aabb.h"
+#include "thicket/core/ray.h"
+
+namespace thicket {
+
+/// SAH cost constants used for every reported SAH cost: cost(leaf) = C_isect * count,
+/// cost(interior) = C_trav + sum over children of area(child)/area(node) * cost(child).
+inline constexpr float kSahTraversalCost = 1.0f;
+inline constexpr float kSahIntersectionCost = 1.0f;
+
+struct AccelStats {
+    std::string spec;          ///< canonical spec string of the structure
+    size_t primitives = 0;
+    size_t nodes = 0;          ///< all nodes (or cells) in use
+    size_t leaves = 0;
+    size_t max_depth = 0;
+    size_t bytes = 0;          ///< structure memory: nodes and index arrays, not the primitives
+    size_t primitive_bytes = 0;///< memory of the primitive data the structure holds
+    double sah_cost = 0.0;     ///< with kSahTraversalCost, kSahIntersectionCost; 0 if undefined
+    double build_ms = 0.0;
+    std::vector<std::pair<std::string, std::string>> extra;  ///< structure-specific figures
+};
+
+class Accel {
+public:
+    virtual ~Accel() = default;
+
+    /// Bounds of everything the structure holds (empty box for an empty scene).
+    virtual Aabb bounds() const = 0;
+    /// Closest hit within [ray.tmin, ray.tmax]; result.prim == kNoPrim on a miss.
+    virtual Hit intersect(const Ray& ray) const = 0;
+    /// Same, counting nodes visited and primitives tested into `counters`.
+    virtual Hit intersect(const Ray& ray, RayCounters& counters) const = 0;
+    /// Is anything hit within [ray.tmin, ray.tmax]? Stops at the first hit found.
+    virtual bool occluded(const Ray& ray) const = 0;
+    virtual bool occluded(const Ray& ray, RayCounters& counters) const = 0;
+    virtual AccelStats stats() const = 0;
+    /// Writes the structure's payload (save_accel() adds the checked header); throws Error if
+    /// the structure cannot be saved.
+    virtual void save(std::ostream& out) const;
+
+    /// Canonical spec string and build time, set by build_accel()/load_accel().
+    const std::string& spec() const { return spec_; }
+    double build_ms() const { return build_ms_; }
+    void set_origin(std::string spec, double build_ms) {
+        spec_ = std::move(spec);
+        build_ms_ = build_ms;
+    }
+
+protected:
+    /// Stats with the fields every structure shares already filled in.
+    AccelStats base_stats() const {
+        AccelStats s;
+        s.spec = spec_;
+        s.build_ms = build_ms_;
+        return s;
+    }
+
+private:
+    std::string spec_;
+    double build_ms_ = 0.0;
+};
+
+/// Implements Accel's virtual entry points for a structure with two templates:
+///   template <class C> Hit closest(const Ray&, C& counters) const;
+///   template <class C> bool any(const Ray&, C& counters) const;
+/// where C is RayCounters or NoCounters (free when not counting).
+template <class Derived>
+class AccelBase : public Accel {
+public:
+    Hit intersect(const Ray& ray) const final {
+        NoCounters none;
+        return self().closest(ray, none);
+    }
+    Hit intersect(const Ray& ray, RayCounters& counters) const final { return self().closest(ray, counters); }
+    bool occluded(const Ray& ray) const final {
+        NoCounters none;
+        return self().any(ray, none);
+    }
+    bool occluded(const Ray& ray, RayCounters& counters) const final { return self().any(ray, counters); }
+
+private:
+    const Derived& self() const { return static_cast<const Derived&>(*this); }
+};
+
+}  // namespace thicket

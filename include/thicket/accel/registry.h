@@ -1,0 +1,69 @@
+#pragma once
+/// The registry of acceleration structures and their spec strings `NAME[:key=value,...]`,
+/// e.g. `bvh:builder=binned-sah,bins=16,traversal=ordered-distance`.
+#include <functional>
+#include <iosfwd>
+#include <map>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "thicket/accel/accel.h"
+#include "thicket/scene/scene.h"
+
+namespace thicket {
+
+/// One named option of a structure: either one of `choices`, or an integer in [min, max].
+struct OptionInfo {
+    std::string key;
+    std::string help;
+    std::string default_value;
+    std::vector<std::string> choices;  ///< empty: an integer option
+    long min = 0, max = 0;
+};
+
+/// A parsed, validated spec with every option present (defaults filled in).
+struct AccelSpec {
+    std::string name;
+    std::map<std::string, std::string> options;
+
+    const std::string& get(const std::string& key) const;
+    long get_int(const std::string& key) const;
+    /// Canonical form: name, then every option in key order.
+    std::string str() const;
+};
+
+struct AccelInfo {
+    std::string name;
+    std::string summary;
+    std::vector<OptionInfo> options;
+    /// Specs of the variants that the conformance suite and `--accel all` run.
+    std::vector<std::string> variants;
+    std::function<std::unique_ptr<Accel>(const Scene&, const AccelSpec&)> build;
+    /// Restores a saved structure (the header is already read and checked); null if unsupported.
+    std::function<std::unique_ptr<Accel>(std::istream&, const Scene&, const AccelSpec&)> load;
+};
+
+/// Every registered structure, in registration order.
+const std::vector<AccelInfo>& accel_registry();
+const AccelInfo* find_accel(std::string_view name);
+
+/// Parses and validates a spec; throws Error naming the bad name, key or value and listing
+/// what is allowed.
+AccelSpec parse_accel_spec(std::string_view spec);
+
+/// Every variant spec of every registered structure (what `--accel all` means).
+std::vector<std::string> all_accel_variants();
+
+/// Parses `spec` and builds the structure over `scene`, filling stats().build_ms.
+std::unique_ptr<Accel> build_accel(std::string_view spec, const Scene& scene);
+
+/// Saves/loads a structure with a versioned, checksummed header bound to the scene's fingerprint.
+void save_accel(const Accel& accel, const Scene& scene, const std::string& path);
+std::unique_ptr<Accel> load_accel(const std::string& path, const Scene& scene);
+
+/// Human-readable listing of every structure, its keys and allowed values (`thicket accels`).
+std::string describe_accels();
+
+}  // namespace thicket

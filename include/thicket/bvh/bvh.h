@@ -1,0 +1,71 @@
+#pragma once
+/// The lecture's BVH over any primitive set: build with one of three builders, trace with one
+/// of five traversals. Usable directly (no virtual call) or through the Accel interface.
+#include <vector>
+
+#include "thicket/accel/accel.h"
+#include "thicket/bvh/build.h"
+#include "thicket/bvh/traversal.h"
+
+namespace thicket {
+
+template <PrimitiveSet Prims>
+class Bvh final : public AccelBase<Bvh<Prims>> {
+public:
+    /// Builds over `prims`.
+    Bvh(Prims prims, const BvhBuildOptions& options, BvhTraversal traversal = BvhTraversal::OrderedDistance)
+        : prims_(std::move(prims)), traversal_(traversal) {
+        std::vector<Aabb> bounds(prims_.size());
+        std::vector<Vec3> centroids(prims_.size());
+        for (uint32_t i = 0; i < prims_.size(); ++i) {
+            bounds[i] = prims_.bounds(i);
+            centroids[i] = prims_.centroid(i);
+        }
+        data_ = build_bvh({bounds, centroids}, options);
+    }
+
+    /// Adopts an already built (e.g. loaded) BVH after checking it fits `prims`.
+    Bvh(Prims prims, BvhData data, BvhTraversal traversal)
+        : prims_(std::move(prims)), data_(std::move(data)), traversal_(traversal) {
+        validate_bvh(data_, prims_.size());
+    }
+
+    Aabb bounds() const override { return data_.nodes_used ? data_.nodes[0].bounds() : Aabb{}; }
+
+    template <class C>
+    Hit closest(const Ray& ray, C& counters) const {
+        return bvh_closest_hit(data_, prims_, ray, traversal_, counters);
+    }
+    template <class C>
+    bool any(const Ray& ray, C& counters) const {
+        return bvh_any_hit(data_, prims_, ray, traversal_, counters);
+    }
+
+    AccelStats stats() const override {
+        AccelStats s = this->base_stats();
+        const BvhFigures f = bvh_figures(data_);
+        s.primitives = prims_.size();
+        s.nodes = f.nodes;
+        s.leaves = f.leaves;
+        s.max_depth = f.max_depth;
+        s.bytes = size_t(data_.nodes_used) * (sizeof(BvhNode) + 1) + data_.prim_indices.size() * sizeof(uint32_t);
+        s.primitive_bytes = prims_.bytes();
+        s.sah_cost = f.sah_cost;
+        s.extra.emplace_back("largest leaf", std::to_string(f.max_leaf_size));
+        s.extra.emplace_back("node pool", std::to_string(data_.nodes.size()) + " nodes allocated, " +
+                                              std::to_string(data_.nodes_used) + " used (slot 1 unused)");
+        return s;
+    }
+
+    void save(std::ostream& out) const override { write_bvh(out, data_); }
+
+    const BvhData& data() const { return data_; }
+    const Prims& primitives() const { return prims_; }
+
+private:
+    Prims prims_;
+    BvhData data_;
+    BvhTraversal traversal_;
+};
+
+}  // namespace thicket

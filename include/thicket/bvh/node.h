@@ -1,0 +1,52 @@
+#pragma once
+/// The lecture's 32-byte BVH node and the flat arrays a BVH is made of.
+#include <cstdint>
+#include <vector>
+
+#include "thicket/core/aabb.h"
+#include "thicket/core/aligned.h"
+
+namespace thicket {
+
+/// Two nodes per 64-byte cache line. A node is a leaf iff count > 0: then its primitives are
+/// prim_indices[leftFirst .. leftFirst+count). Otherwise its children are nodes leftFirst and
+/// leftFirst+1 (right = left + 1, so one index serves both).
+struct alignas(32) BvhNode {
+    Vec3 aabbMin;
+    uint32_t leftFirst = 0;
+    Vec3 aabbMax;
+    uint32_t count = 0;
+
+    bool is_leaf() const { return count > 0; }
+    Aabb bounds() const { return {aabbMin, aabbMax}; }
+};
+static_assert(sizeof(BvhNode) == 32, "the lecture's node is 32 bytes: two per cache line");
+
+/// Per interior node, what the ordered traversals need beside the 32-byte node (one byte, kept
+/// apart so the node stays 32 bytes): bits 0-1 the split axis (the left child holds the lower
+/// side), bits 2-3 the axis of widest child-centroid separation, bit 4 set when on that axis the
+/// left child's centroid is the higher one.
+struct ChildOrder {
+    static uint8_t pack(int split_axis, int centroid_axis, bool left_is_higher) {
+        return uint8_t(split_axis | (centroid_axis << 2) | (left_is_higher ? 16 : 0));
+    }
+    static int split_axis(uint8_t b) { return b & 3; }
+    static int centroid_axis(uint8_t b) { return (b >> 2) & 3; }
+    static bool left_is_higher(uint8_t b) { return (b & 16) != 0; }
+};
+
+/// Deepest tree a builder makes; past kMaxSahDepth builders fall back to median splits, which
+/// halve the count, so depth stays below kMaxDepth and fixed traversal stacks cannot overflow.
+inline constexpr uint32_t kMaxSahDepth = 64;
+inline constexpr uint32_t kMaxDepth = 100;
+inline constexpr uint32_t kTraversalStackSize = 128;
+
+/// A built BVH: relocatable (indices only, no pointers), hence serializable as is.
+struct BvhData {
+    AlignedVector<BvhNode, 64> nodes;  ///< pool of 2N nodes: root at 0, 1 unused (cache alignment)
+    std::vector<uint32_t> prim_indices;///< partitioned in place by the builder
+    std::vector<uint8_t> child_order;  ///< ChildOrder byte per node (interior nodes only meaningful)
+    uint32_t nodes_used = 0;           ///< 0 for an empty scene
+};
+
+}  // namespace thicket

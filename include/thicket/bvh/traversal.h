@@ -1,0 +1,164 @@
+#pragma once
+/// BVH traversals of the lecture: recursive (as on the slide), iterative with a stack, and
+/// ordered traversal by each of the three ways to pick the near child. All of them skip nodes
+/// the ray enters beyond the current hit distance (early out), and every node whose box is
+/// tested counts as visited.
+#include <utility>
+
+#include "thicket/bvh/node.h"
+#include "thicket/core/ray_box.h"
+#include "thicket/prims/primitive_set.h"
+
+namespace thicket {
+
+enum class BvhTraversal { Recursive, Stack, OrderedDistance, OrderedAxis, OrderedCentroid };
+
+namespace bvh_detail {
+
+/// Closest hit (AnyHit = false: updates `hit`, returns whether anything was hit) or any hit
+/// (AnyHit = true: returns at the first primitive hit within [tmin, tmax]).
+template <bool AnyHit, class Prims, class C>
+struct Query {
+    const BvhData& bvh;
+    const Prims& prims;
+    const Ray& ray;
+    const RayBoxQuery box;
+    Hit& hit;
+    C& counters;
+
+    Query(const BvhData& b, const Prims& p, const Ray& r, Hit& h, C& c)
+        : bvh(b), prims(p), ray(r), box(r), hit(h), counters(c) {}
+
+    float far() const { return AnyHit ? ray.tmax : hit.t; }
+
+    float enter(uint32_t n) {
+        counters.node();
+        return ray_box_entry(box, bvh.nodes[n].aabbMin, bvh.nodes[n].aabbMax, ray.tmin, far());
+    }
+
+    /// Tests a leaf's primitives; true ends the query (any-hit found something).
+    bool leaf(const BvhNode& node) {
+        for (uint32_t i = node.leftFirst, end = node.leftFirst + node.count; i < end; ++i) {
+            counters.prim();
+            if constexpr (AnyHit) {
+                if (prims.occludes(bvh.prim_indices[i], ray)) return true;
+            } else {
+                prims.intersect(bvh.prim_indices[i], ray, hit);
+            }
+        }
+        return false;
+    }
+
+    /// The slide's traversal: test the box, then the primitives or both children in order.
+    bool recursive(uint32_t n) {
+        if (enter(n) == kInfinity) return false;
+        const BvhNode& node = bvh.nodes[n];
+        if (node.is_leaf()) return leaf(node);
+        return recursive(node.leftFirst) || recursive(node.leftFirst + 1);
+    }
+
+    /// The same visiting order without recursion: boxes are tested when popped.
+    bool stack() {
+        uint32_t stack[kTraversalStackSize];
+        uint32_t sp = 0;
+        stack[sp++] = 0;
+        while (sp > 0) {
+            const uint32_t n = stack[--sp];
+            if (enter(n) == kInfinity) continue;
+            const BvhNode& node = bvh.nodes[n];
+            if (node.is_leaf()) {
+                if (leaf(node)) return true;
+            } else {
+                stack[sp++] = node.leftFirst + 1;
+                stack[sp++] = node.leftFirst;
+            }
+        }
+        return false;
+    }
+
+    /// Ordered traversal: both children's boxes are tested at the parent, the near one is
+    /// visited first, the far one is pushed with its entry distance and skipped when popped
+    /// if a hit closer than that distance has been found meanwhile.
+    template <BvhTraversal Order>
+    bool ordered() {
+        struct Entry {
+            uint32_t node;
+            float t;
+        };
+        Entry stack[kTraversalStackSize];
+        uint32_t sp = 0;
+        if (enter(0) == kInfinity) return false;
+        uint32_t n = 0;
+        while (true) {
+            const BvhNode& node = bvh.nodes[n];
+            if (node.is_leaf()) {
+                if (leaf(node)) return true;
+            } else {
+                uint32_t near = node.leftFirst, far_node = near + 1;
+                float t_near = enter(near), t_far = enter(far_node);
+                bool swap;
+                if constexpr (Order == BvhTraversal::OrderedDistance) {
+                    swap = t_far < t_near;
+                } else if constexpr (Order == BvhTraversal::OrderedAxis) {
+                    swap = box.neg[ChildOrder::split_axis(bvh.child_order[n])] != 0;
+                } else {
+                    const uint8_t order = bvh.child_order[n];
+                    swap = (box.neg[ChildOrder::centroid_axis(order)] != 0) != ChildOrder::left_is_higher(order);
+                }
+                if (swap) {
+                    std::swap(near, far_node);
+                    std::swap(t_near, t_far);
+                }
+                if (t_near != kInfinity) {
+                    if (t_far != kInfinity) stack[sp++] = {far_node, t_far};
+                    n = near;
+                    continue;
+                }
+                if (t_far != kInfinity) {
+                    n = far_node;
+                    continue;
+                }
+            }
+            // Pop the next node still worth visiting.
+            while (true) {
+                if (sp == 0) return false;
+                const Entry e = stack[--sp];
+                if (e.t <= far()) {
+                    n = e.node;
+                    break;
+                }
+            }
+        }
+    }
+
+    bool run(BvhTraversal traversal) {
+        if (bvh.nodes_used == 0) return false;
+        switch (traversal) {
+        case BvhTraversal::Recursive: return recursive(0);
+        case BvhTraversal::Stack: return stack();
+        case BvhTraversal::OrderedDistance: return ordered<BvhTraversal::OrderedDistance>();
+        case BvhTraversal::OrderedAxis: return ordered<BvhTraversal::OrderedAxis>();
+        case BvhTraversal::OrderedCentroid: return ordered<BvhTraversal::OrderedCentroid>();
+        }
+        return false;
+    }
+};
+
+}  // namespace bvh_detail
+
+/// Closest hit within [ray.tmin, ray.tmax] (prim == kNoPrim on a miss).
+template <PrimitiveSet Prims, class C>
+Hit bvh_closest_hit(const BvhData& bvh, const Prims& prims, const Ray& ray, BvhTraversal traversal, C& counters) {
+    Hit hit = miss_for(ray);
+    bvh_detail::Query<false, Prims, C>(bvh, prims, ray, hit, counters).run(traversal);
+    return hit;
+}
+
+/// Whether anything is hit within [ray.tmin, ray.tmax]; stops at the first hit.
+template <PrimitiveSet Prims, class C>
+bool bvh_any_hit(const BvhData& bvh, const Prims& prims, const Ray& ray, BvhTraversal traversal, C& counters) {
+    Hit unused = miss_for(ray);
+    return bvh_detail::Query<true, Prims, C>(bvh, prims, ray, unused, counters).run(traversal);
+}
+
+}  // namespace thicket

@@ -1,0 +1,50 @@
+#pragma once
+/// Ray and hit records shared by every structure and primitive.
+#include <cstdint>
+#include <limits>
+
+#include "thicket/core/vec3.h"
+
+namespace thicket {
+
+inline constexpr float kInfinity = std::numeric_limits<float>::infinity();
+inline constexpr uint32_t kNoPrim = 0xFFFFFFFFu;
+
+/// A ray accepts hits with tmin <= t <= tmax; t is in units of dir's length (dir need not be unit).
+struct Ray {
+    Vec3 org;
+    float tmin = 0.0f;
+    Vec3 dir;
+    float tmax = kInfinity;
+};
+
+/// Closest-hit record. prim == kNoPrim means no hit. (u, v) are the primitive's surface
+/// parameters; for triangles the barycentric weights of vertices 1 and 2.
+struct Hit {
+    float t = kInfinity;
+    float u = 0.0f;
+    float v = 0.0f;
+    uint32_t prim = kNoPrim;
+
+    constexpr bool found() const { return prim != kNoPrim; }
+};
+
+/// Starts a closest-hit query: the search interval's far end is the ray's tmax.
+constexpr Hit miss_for(const Ray& ray) { return Hit{ray.tmax, 0.0f, 0.0f, kNoPrim}; }
+
+/// Per-ray work counters. Structures take a counting policy as a template argument, so the
+/// non-counting path compiles to nothing (see NoCounters).
+struct RayCounters {
+    uint64_t nodes = 0;  ///< interior and leaf nodes (or cells) visited
+    uint64_t prims = 0;  ///< primitive intersection tests
+    void node() { ++nodes; }
+    void prim() { ++prims; }
+    RayCounters& operator+=(const RayCounters& o) { nodes += o.nodes; prims += o.prims; return *this; }
+};
+
+struct NoCounters {
+    constexpr void node() {}
+    constexpr void prim() {}
+};
+
+}  // namespace thicket

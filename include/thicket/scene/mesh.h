@@ -1,0 +1,35 @@
+#pragma once
+/// Indexed triangle mesh with optional per-triangle materials (kept from OBJ .mtl files for the renderer).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "thicket/core/aabb.h"
+
+namespace thicket {
+
+struct Material {
+    std::string name;
+    Vec3 diffuse{0.8f, 0.8f, 0.8f};
+    Vec3 specular{0.0f, 0.0f, 0.0f};
+    Vec3 emission{0.0f, 0.0f, 0.0f};
+    float shininess = 0.0f;
+    float ior = 1.0f;
+};
+
+struct TriangleMesh {
+    std::vector<Vec3> positions;
+    std::vector<uint32_t> indices;            ///< 3 per triangle, 0-based into positions
+    std::vector<uint32_t> material_ids;       ///< empty, or one per triangle into materials
+    std::vector<Material> materials;
+
+    size_t triangle_count() const { return indices.size() / 3; }
+    Vec3 vertex(size_t tri, int corner) const { return positions[indices[3 * tri + corner]]; }
+    Aabb bounds() const {
+        Aabb b;
+        for (uint32_t i : indices) b.grow(positions[i]);
+        return b;
+    }
+};
+
+}  // namespace thicket

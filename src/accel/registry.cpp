@@ -1,0 +1,185 @@
+// The registry: every structure is listed here by its register function, explicitly, so that
+// no static-initialisation trick can be dropped by the linker.
+#include "thicket/accel/registry.h"
+
+#include <chrono>
+#include <sstream>
+
+#include "thicket/core/error.h"
+
+namespace thicket {
+
+void register_brute(std::vector<AccelInfo>& registry);
+void register_bvh(std::vector<AccelInfo>& registry);
+
+namespace {
+
+/// Options every structure takes, appended to each entry.
+OptionInfo triangle_test_option() {
+    OptionInfo o;
+    o.key = "isect";
+    o.help = "ray/triangle test: Moller-Trumbore or the watertight test (Woop et al. 2013)";
+    o.default_value = "moller";
+    o.choices = {"moller", "watertight"};
+    return o;
+}
+
+std::vector<AccelInfo> make_registry() {
+    std::vector<AccelInfo> r;
+    register_brute(r);
+    register_bvh(r);
+    for (AccelInfo& info : r) info.options.push_back(triangle_test_option());
+    return r;
+}
+
+std::string join(const std::vector<std::string>& items, const char* sep = ", ") {
+    std::string out;
+    for (const auto& s : items) out += (out.empty() ? "" : sep) + s;
+    return out;
+}
+
+std::string trim(std::string_view s) {
+    size_t b = s.find_first_not_of(" \t"), e = s.find_last_not_of(" \t");
+    return b == std::string_view::npos ? std::string() : std::string(s.substr(b, e - b + 1));
+}
+
+bool parse_long(const std::string& s, long& out) {
+    if (s.empty()) return false;
+    size_t pos = 0;
+    try {
+        out = std::stol(s, &pos);
+    } catch (const std::exception&) {
+        return false;
+    }
+    return pos == s.size();
+}
+
+}  // namespace
+
+const std::vector<AccelInfo>& accel_registry() {
+    static const std::vector<AccelInfo> registry = make_registry();
+    return registry;
+}
+
+const AccelInfo* find_accel(std::string_view name) {
+    for (const AccelInfo& info : accel_registry())
+        if (info.name == name) return &info;
+    return nullptr;
+}
+
+const std::string& AccelSpec::get(const std::string& key) const {
+    auto it = options.find(key);
+    if (it == options.end()) throw Error(name + ": internal error: option '" + key + "' is not registered");
+    return it->second;
+}
+
+long AccelSpec::get_int(const std::string& key) const {
+    long v = 0;
+    if (!parse_long(get(key), v)) throw Error(name + ": option " + key + "=" + get(key) + " is not an integer");
+    return v;
+}
+
+std::string AccelSpec::str() const {
+    std::string s = name;
+    char sep = ':';
+    for (const auto& [k, v] : options) {
+        s += sep + k + "=" + v;
+        sep = ',';
+    }
+    return s;
+}
+
+AccelSpec parse_accel_spec(std::string_view text) {
+    const size_t colon = text.find(':');
+    AccelSpec spec;
+    spec.name = trim(text.substr(0, colon));
+    const AccelInfo* info = find_accel(spec.name);
+    if (!info) {
+        std::vector<std::string> names;
+        for (const auto& i : accel_registry()) names.push_back(i.name);
+        throw Error("unknown acceleration structure '" + spec.name + "' in spec '" + std::string(text) +
+                    "'; known structures: " + join(names) + " (see `thicket accels`)");
+    }
+    for (const OptionInfo& o : info->options) spec.options[o.key] = o.default_value;
+    if (colon == std::string_view::npos) return spec;
+
+    std::vector<std::string> seen;
+    std::string_view rest = text.substr(colon + 1);
+    while (true) {
+        const size_t comma = rest.find(',');
+        const std::string item = trim(rest.substr(0, comma));
+        const size_t eq = item.find('=');
+        if (item.empty() || eq == std::string::npos)
+            throw Error("malformed spec '" + std::string(text) + "': expected key=value, got '" + item +
+                        "' (form: NAME[:key=value,...])");
+        const std::string key = trim(item.substr(0, eq)), value = trim(item.substr(eq + 1));
+        const OptionInfo* opt = nullptr;
+        for (const OptionInfo& o : info->options)
+            if (o.key == key) opt = &o;
+        if (!opt) {
+            std::vector<std::string> keys;
+            for (const auto& o : info->options) keys.push_back(o.key);
+            throw Error(spec.name + ": unknown option '" + key + "'; allowed options: " + join(keys));
+        }
+        for (const auto& s : seen)
+            if (s == key) throw Error(spec.name + ": option '" + key + "' given twice in '" + std::string(text) + "'");
+        seen.push_back(key);
+        if (!opt->choices.empty()) {
+            bool ok = false;
+            for (const auto& c : opt->choices) ok = ok || c == value;
+            if (!ok)
+                throw Error(spec.name + ": " + key + "=" + value + " is not allowed; choose one of " +
+                            join(opt->choices));
+        } else {
+            long v = 0;
+            if (!parse_long(value, v) || v < opt->min || v > opt->max)
+                throw Error(spec.name + ": " + key + "=" + value + " must be an integer in [" +
+                            std::to_string(opt->min) + ", " + std::to_string(opt->max) + "]");
+        }
+        spec.options[key] = value;
+        if (comma == std::string_view::npos) break;
+        rest = rest.substr(comma + 1);
+    }
+    return spec;
+}
+
+std::vector<std::string> all_accel_variants() {
+    std::vector<std::string> out;
+    for (const AccelInfo& info : accel_registry())
+        for (const auto& v : info.variants) out.push_back(v);
+    return out;
+}
+
+std::unique_ptr<Accel> build_accel(std::string_view spec_text, const Scene& scene) {
+    const AccelSpec spec = parse_accel_spec(spec_text);
+    const auto start = std::chrono::steady_clock::now();
+    std::unique_ptr<Accel> accel = find_accel(spec.name)->build(scene, spec);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    accel->set_origin(spec.str(), ms);
+    return accel;
+}
+
+std::string describe_accels() {
+    std::ostringstream out;
+    out << "Acceleration structures (spec: NAME[:key=value,...], e.g. "
+           "bvh:builder=binned-sah,bins=16,traversal=ordered-distance)\n";
+    for (const AccelInfo& info : accel_registry()) {
+        out << "\n" << info.name << " - " << info.summary << "\n";
+        for (const OptionInfo& o : info.options) {
+            out << "  " << o.key << "=";
+            if (o.choices.empty())
+                out << "<integer " << o.min << ".." << o.max << ">";
+            else
+                out << join(o.choices, "|");
+            out << "  (default " << o.default_value << ")\n      " << o.help << "\n";
+        }
+        out << "  variants tested: " << info.variants.size() << "\n";
+    }
+    return out.str();
+}
+
+void Accel::save(std::ostream&) const {
+    throw Error("structure '" + spec() + "' cannot be saved to a file");
+}
+
+}  // namespace thicket

@@ -1,0 +1,19 @@
+#include "thicket/accel/dispatch.h"
+#include "thicket/brute/brute_force.h"
+
+namespace thicket {
+
+void register_brute(std::vector<AccelInfo>& registry) {
+    AccelInfo info;
+    info.name = "brute";
+    info.summary = "brute force: tests every primitive; the reference every structure is checked against";
+    info.variants = {"brute", "brute:isect=watertight"};
+    info.build = [](const Scene& scene, const AccelSpec& spec) {
+        return with_primitives(scene, spec, [](auto prims) -> std::unique_ptr<Accel> {
+            return std::make_unique<BruteForce<decltype(prims)>>(std::move(prims));
+        });
+    };
+    registry.push_back(std::move(info));
+}
+
+}  // namespace thicket

@@ -1,0 +1,43 @@
+// Midpoint builder: split the longest axis of the centroid bounds in the middle, partition in
+// place (quicksort-style, the plane is the pivot). The SAH only decides whether to stop.
+#include "splitter.h"
+
+namespace thicket::bvh_build {
+namespace {
+
+class MidpointSplitter final : public Splitter {
+public:
+    using Splitter::Splitter;
+
+    Split split(const NodeRange& node) override {
+        const Aabb cb = centroid_bounds(ctx_, node);
+        const int axis = max_axis(cb.extent());
+        const float pos = cb.center()[axis];
+        if (!(cb.extent()[axis] > 0.0f)) return {};
+
+        auto& idx = ctx_.indices;
+        const auto& c = ctx_.prims.centroids;
+        uint32_t i = node.first, j = node.first + node.count;  // [first, i) left, [j, end) right
+        while (i < j) {
+            if (c[idx[i]][axis] < pos)
+                ++i;
+            else
+                std::swap(idx[i], idx[--j]);
+        }
+        const uint32_t left = i - node.first;
+        if (left == 0 || left == node.count) return {};
+
+        Aabb lb, rb;
+        for (uint32_t k = node.first; k < i; ++k) lb.grow(ctx_.prims.bounds[idx[k]]);
+        for (uint32_t k = i; k < node.first + node.count; ++k) rb.grow(ctx_.prims.bounds[idx[k]]);
+        const float cost = sah_split_cost(lb.half_area(), left, rb.half_area(), node.count - left, node.bounds.half_area());
+        if (cost >= sah_leaf_cost(node.count) && node.count <= uint32_t(ctx_.options.max_leaf)) return {};
+        return {left, axis};
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<Splitter> make_midpoint_splitter(BuildContext& ctx) { return std::make_unique<MidpointSplitter>(ctx); }
+
+}  // namespace thicket::bvh_build

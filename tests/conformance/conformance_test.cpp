@@ -1,0 +1,129 @@
+// The conformance suite: every registered structure variant, on generated nasty scenes and on
+// the shared real scenes, must answer exactly like brute force. A new structure is tested by
+// registering it; nothing here names a structure.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+#include "support/reference.h"
+#include "support/test_scenes.h"
+#include "thicket/accel/registry.h"
+#include "thicket/core/error.h"
+#include "thicket/prims/triangles.h"
+
+namespace thicket::testing {
+namespace {
+
+#ifdef THICKET_SANITIZED
+constexpr size_t kRealSceneBudget = 25'000'000;
+#else
+constexpr size_t kRealSceneBudget = 100'000'000;
+#endif
+
+class Conformance : public ::testing::TestWithParam<std::string> {
+protected:
+    std::string isect() const { return parse_accel_spec(GetParam()).get("isect"); }
+
+    void check_scene(const Scene& scene, const std::string& key, size_t rays) {
+        SCOPED_TRACE("scene " + scene.name);
+        const Reference& ref = reference_for(key, scene, isect(), rays);
+        std::unique_ptr<Accel> accel = build_accel(GetParam(), scene);
+        const std::string mismatch = compare_with_reference(*accel, ref, scene.name);
+        EXPECT_EQ(mismatch, "");
+        check_bounds(*accel, scene);
+    }
+
+    static void check_bounds(const Accel& accel, const Scene& scene) {
+        const Aabb want = scene.bounds();
+        const Aabb got = accel.bounds();
+        if (want.empty()) {
+            EXPECT_TRUE(got.empty()) << "bounds of an empty scene must be empty";
+            return;
+        }
+        for (int a = 0; a < 3; ++a) {
+            EXPECT_LE(got.min[a], want.min[a]) << "bounds must contain every primitive (axis " << a << ")";
+            EXPECT_GE(got.max[a], want.max[a]) << "bounds must contain every primitive (axis " << a << ")";
+        }
+    }
+};
+
+TEST_P(Conformance, NastyScenes) {
+    for (const Scene& scene : nasty_scenes()) check_scene(scene, "nasty:" + scene.name, 3000);
+}
+
+TEST_P(Conformance, SharedScenes) {
+    const auto files = shared_scene_files();
+    if (files.empty()) GTEST_SKIP() << shared_scenes_missing_message();
+    for (const std::string& file : files) {
+        const Scene& scene = cached_scene(file);
+        // Brute force costs rays x triangles: keep about 1e8 tests per real scene (a quarter of
+        // that under the sanitizers, which run about ten times slower).
+        const size_t rays =
+            std::clamp<size_t>(kRealSceneBudget / std::max<size_t>(1, scene.primitive_count()), 200, 4000);
+        check_scene(scene, file, rays);
+    }
+}
+
+TEST_P(Conformance, StatisticsAreConsistent) {
+    for (const Scene& scene : nasty_scenes()) {
+        SCOPED_TRACE("scene " + scene.name);
+        auto accel = build_accel(GetParam(), scene);
+        const AccelStats s = accel->stats();
+        EXPECT_EQ(s.spec, accel->spec());
+        EXPECT_EQ(s.primitives, scene.primitive_count());
+        EXPECT_GE(s.build_ms, 0.0);
+        EXPECT_LE(s.leaves, s.nodes);
+        if (scene.primitive_count() > 0) {
+            EXPECT_GT(s.sah_cost, 0.0);
+        }
+        // Counting is free of side effects: counting twice gives the same figures.
+        const Ray ray{scene.bounds().center() - Vec3(0, 0, 10), 0.0f, {0, 0, 1}, kInfinity};
+        RayCounters a, b;
+        accel->intersect(ray, a);
+        accel->intersect(ray, b);
+        EXPECT_EQ(a.nodes, b.nodes);
+        EXPECT_EQ(a.prims, b.prims);
+        EXPECT_LE(a.prims, scene.primitive_count()) << "no primitive may be tested twice by one query";
+    }
+}
+
+TEST_P(Conformance, SaveLoadRoundTrip) {
+    const Scene scene = nasty_scenes().back();  // the random soup
+    auto accel = build_accel(GetParam(), scene);
+    const auto path = std::filesystem::temp_directory_path() /
+                      ("thicket-conformance-" + std::to_string(::getpid()) + "-" +
+                       std::to_string(std::hash<std::string>{}(GetParam())) + ".accel");
+    try {
+        save_accel(*accel, scene, path.string());
+    } catch (const Error& e) {
+        // A structure may not support saving; then it must say so, and leave no file behind.
+        EXPECT_NE(std::string(e.what()).find("cannot be saved"), std::string::npos) << e.what();
+        EXPECT_FALSE(std::filesystem::exists(path));
+        return;
+    }
+    auto loaded = load_accel(path.string(), scene);
+    std::filesystem::remove(path);
+    EXPECT_EQ(loaded->spec(), accel->spec());
+    const Reference& ref = reference_for("nasty:" + scene.name, scene, isect(), 3000);
+    EXPECT_EQ(compare_with_reference(*loaded, ref, scene.name), "");
+    for (const Ray& r : ref.rays) {
+        const Hit a = accel->intersect(r), b = loaded->intersect(r);
+        ASSERT_EQ(a.prim, b.prim);
+        ASSERT_EQ(a.t, b.t);
+    }
+}
+
+std::string test_name(const ::testing::TestParamInfo<std::string>& info) {
+    std::string name = info.param;
+    for (char& c : name)
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+    return name;
+}
+
+INSTANTIATE_TEST_SUITE_P(Registry, Conformance, ::testing::ValuesIn(all_accel_variants()), test_name);
+
+}  // namespace
+}  // namespace thicket::testing

@@ -1,0 +1,29 @@
+#pragma once
+// Brute-force references, computed once per (scene, triangle test), and the agreement rule.
+#include <string>
+#include <vector>
+
+#include "thicket/accel/accel.h"
+#include "thicket/scene/scene.h"
+
+namespace thicket::testing {
+
+struct Reference {
+    std::vector<Ray> rays;
+    std::vector<Hit> hits;
+    std::vector<uint8_t> occluded;
+};
+
+/// Brute force's answers on conformance_rays(scene, count) with the given `isect` option;
+/// cached per process under `key`.
+const Reference& reference_for(const std::string& key, const Scene& scene, const std::string& isect, size_t count);
+
+/// The agreement rule: both miss, or both hit with the same primitive (and identical t, u, v),
+/// or with t equal within 1e-5 relative (several primitives tie).
+bool same_closest_hit(const Hit& got, const Hit& want);
+
+/// Runs `accel` over the reference rays (closest, closest with counters, any-hit) and returns
+/// "" when it agrees everywhere, else a description of the first few disagreements.
+std::string compare_with_reference(const Accel& accel, const Reference& ref, const std::string& scene_name);
+
+}  // namespace thicket::testing

@@ -1,0 +1,243 @@
+#include "support/test_scenes.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <random>
+
+namespace thicket::testing {
+
+namespace {
+
+void add_triangle(TriangleMesh& m, Vec3 a, Vec3 b, Vec3 c) {
+    const auto base = uint32_t(m.positions.size());
+    m.positions.insert(m.positions.end(), {a, b, c});
+    m.indices.insert(m.indices.end(), {base, base + 1, base + 2});
+}
+
+Scene make(std::string name, TriangleMesh mesh) {
+    Scene s;
+    s.name = std::move(name);
+    s.mesh = std::move(mesh);
+    return s;
+}
+
+Vec3 random_point(std::mt19937& rng, Vec3 lo, Vec3 hi) {
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    return {lo.x + (hi.x - lo.x) * u(rng), lo.y + (hi.y - lo.y) * u(rng), lo.z + (hi.z - lo.z) * u(rng)};
+}
+
+TriangleMesh random_soup(size_t count, Vec3 lo, Vec3 hi, float size, uint32_t seed) {
+    std::mt19937 rng(seed);
+    TriangleMesh m;
+    for (size_t i = 0; i < count; ++i) {
+        const Vec3 c = random_point(rng, lo, hi);
+        add_triangle(m, c + random_point(rng, Vec3(-size), Vec3(size)), c + random_point(rng, Vec3(-size), Vec3(size)),
+                     c + random_point(rng, Vec3(-size), Vec3(size)));
+    }
+    return m;
+}
+
+/// A closed, subdivided cube: every edge is shared by exactly two triangles.
+TriangleMesh closed_cube(int n) {
+    TriangleMesh m;
+    auto vertex = [&](Vec3 p) {
+        for (uint32_t i = 0; i < m.positions.size(); ++i)
+            if (m.positions[i] == p) return i;
+        m.positions.push_back(p);
+        return uint32_t(m.positions.size() - 1);
+    };
+    for (int axis = 0; axis < 3; ++axis)
+        for (int side = 0; side < 2; ++side)
+            for (int i = 0; i < n; ++i)
+                for (int j = 0; j < n; ++j) {
+                    auto corner = [&](int a, int b) {
+                        Vec3 p;
+                        p[axis] = float(side);
+                        p[(axis + 1) % 3] = float(a) / float(n);
+                        p[(axis + 2) % 3] = float(b) / float(n);
+                        return vertex(p);
+                    };
+                    const uint32_t v00 = corner(i, j), v10 = corner(i + 1, j), v11 = corner(i + 1, j + 1),
+                                   v01 = corner(i, j + 1);
+                    m.indices.insert(m.indices.end(), {v00, v10, v11, v00, v11, v01});
+                }
+    return m;
+}
+
+}  // namespace
+
+std::vector<Scene> nasty_scenes() {
+    std::vector<Scene> scenes;
+    scenes.push_back(make("empty", {}));
+    {
+        TriangleMesh m;
+        add_triangle(m, {0, 0, 0}, {1, 0, 0}, {0, 1, 0});
+        scenes.push_back(make("one-triangle", std::move(m)));
+    }
+    {
+        TriangleMesh m = random_soup(300, {0, 0, 0}, {1, 1, 1}, 0.05f, 7);
+        std::mt19937 rng(11);
+        for (int i = 0; i < 100; ++i) {
+            const Vec3 p = random_point(rng, {0, 0, 0}, {1, 1, 1});
+            const Vec3 q = random_point(rng, {0, 0, 0}, {1, 1, 1});
+            add_triangle(m, p, p, p);                        // a point
+            add_triangle(m, p, q, p + (q - p) * 0.5f);       // collinear
+            add_triangle(m, p, p, q);                        // repeated vertex
+        }
+        scenes.push_back(make("zero-area", std::move(m)));
+    }
+    {
+        TriangleMesh m;
+        for (int copy = 0; copy < 8; ++copy) {
+            add_triangle(m, {0, 0, 0}, {1, 0, 0}, {0, 1, 0});
+            add_triangle(m, {0, 1, 0}, {1, 0, 0}, {0, 0, 0});  // reversed winding
+            add_triangle(m, {0.2f, 0.2f, 0.5f}, {0.9f, 0.3f, 0.5f}, {0.4f, 0.8f, 0.5f});
+        }
+        scenes.push_back(make("duplicates", std::move(m)));
+    }
+    {
+        // Many overlapping triangles in one plane, and an axis-aligned tessellated floor.
+        TriangleMesh m;
+        std::mt19937 rng(5);
+        for (int i = 0; i < 200; ++i) {
+            const Vec3 a = random_point(rng, {0, 0, 0}, {1, 1, 0}), b = random_point(rng, {0, 0, 0}, {1, 1, 0}),
+                       c = random_point(rng, {0, 0, 0}, {1, 1, 0});
+            add_triangle(m, a, b, c);
+        }
+        for (int i = 0; i < 10; ++i)
+            for (int j = 0; j < 10; ++j) {
+                const Vec3 p(float(i) * 0.1f, 0.5f, float(j) * 0.1f);
+                add_triangle(m, p, p + Vec3(0.1f, 0, 0), p + Vec3(0.1f, 0, 0.1f));
+                add_triangle(m, p, p + Vec3(0.1f, 0, 0.1f), p + Vec3(0, 0, 0.1f));
+            }
+        scenes.push_back(make("coplanar", std::move(m)));
+    }
+    {
+        // Triangles of many sizes and orientations, all with the same centroid.
+        TriangleMesh m;
+        std::mt19937 rng(3);
+        const Vec3 c(1, 2, 3);
+        for (int i = 0; i < 300; ++i) {
+            const Vec3 a = random_point(rng, Vec3(-1), Vec3(1)) * float(1 + i % 7);
+            const Vec3 b = random_point(rng, Vec3(-1), Vec3(1)) * float(1 + i % 5);
+            add_triangle(m, c + a, c + b, c - a - b);
+        }
+        scenes.push_back(make("same-centroid", std::move(m)));
+    }
+    scenes.push_back(make("huge", random_soup(500, Vec3(1e7f), Vec3(1.5e7f), 2e5f, 21)));
+    scenes.push_back(make("tiny", random_soup(500, Vec3(-1e-7f), Vec3(1e-7f), 2e-8f, 22)));
+    scenes.push_back(make("closed-cube", closed_cube(6)));
+    scenes.push_back(make("soup", random_soup(2000, {-1, -1, -1}, {1, 1, 1}, 0.1f, 23)));
+    return scenes;
+}
+
+std::string shared_scene_dir() {
+    std::error_code ec;
+    return std::filesystem::is_directory(THICKET_SHARED_SCENES, ec) ? std::string(THICKET_SHARED_SCENES) : "";
+}
+
+std::vector<std::string> shared_scene_files() {
+    std::vector<std::string> files;
+    const std::string dir = shared_scene_dir();
+    if (dir.empty()) return files;
+    for (const auto& e : std::filesystem::directory_iterator(dir)) {
+        const std::string ext = e.path().extension().string();
+        if (ext == ".ply" || ext == ".obj") files.push_back(e.path().string());
+    }
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+std::string shared_scenes_missing_message() {
+    return std::string("shared scenes not found at ") + THICKET_SHARED_SCENES +
+           " (expected ../shared/scenes beside the checkout); real-scene tests skipped";
+}
+
+const Scene& cached_scene(const std::string& path) {
+    static std::mutex mutex;
+    static std::map<std::string, std::unique_ptr<Scene>> cache;
+    std::lock_guard<std::mutex> lock(mutex);
+    auto& slot = cache[path];
+    if (!slot) slot = std::make_unique<Scene>(load_scene(path));
+    return *slot;
+}
+
+std::vector<Ray> conformance_rays(const Scene& scene, size_t count, uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+    std::vector<Ray> rays;
+    Aabb b = scene.bounds();
+    if (b.empty()) b = Aabb{Vec3(-1), Vec3(1)};
+    const Vec3 ext = max(b.extent(), Vec3(max_component(b.extent()) * 0.01f + 1e-30f));
+    const Vec3 lo = b.min - ext * 0.25f, hi = b.max + ext * 0.25f;
+    const size_t tris = scene.primitive_count();
+    auto random_dir = [&] {
+        while (true) {
+            const Vec3 d = random_point(rng, Vec3(-1), Vec3(1));
+            const float l2 = dot(d, d);
+            if (l2 > 1e-4f && l2 <= 1.0f) return d;
+        }
+    };
+    auto surface_point = [&](uint32_t t, float a, float c) {
+        const Vec3 v0 = scene.mesh.vertex(t, 0), v1 = scene.mesh.vertex(t, 1), v2 = scene.mesh.vertex(t, 2);
+        return v0 + (v1 - v0) * a + (v2 - v0) * c;
+    };
+    const size_t share = std::max<size_t>(1, count / 6);
+
+    // Random origins around the scene, aimed at random points inside it or in random directions.
+    for (size_t i = 0; i < share; ++i) {
+        const Vec3 o = random_point(rng, lo, hi);
+        const Vec3 d = (i % 2) ? random_point(rng, b.min, b.max) - o : random_dir();
+        rays.push_back({o, 0.0f, d, kInfinity});
+    }
+    // Aimed exactly at vertices and edge midpoints: shared edges and vertices of closed meshes.
+    for (size_t i = 0; tris && i < share; ++i) {
+        const auto t = uint32_t(rng() % tris);
+        const Vec3 target = (i % 3 == 0) ? scene.mesh.vertex(t, int(i % 3))
+                                         : (scene.mesh.vertex(t, 0) + scene.mesh.vertex(t, 1 + int(i % 2))) * 0.5f;
+        const Vec3 o = random_point(rng, lo, hi);
+        rays.push_back({o, 0.0f, target - o, kInfinity});
+    }
+    // Axis-parallel, with +0 and -0 in the other components; origins on vertex coordinates too.
+    for (size_t i = 0; i < share; ++i) {
+        const int axis = int(i % 3);
+        const float sign = (i / 3) % 2 ? -1.0f : 1.0f;
+        Vec3 d((i / 6) % 2 ? -0.0f : 0.0f);
+        d[axis] = sign;
+        Vec3 o = random_point(rng, lo, hi);
+        if (tris && i % 2 == 0) {
+            const Vec3 v = scene.mesh.vertex(rng() % tris, int(rng() % 3));
+            o = v;  // passes exactly through a vertex (or along an edge of an axis-aligned mesh)
+        }
+        o[axis] = sign > 0 ? lo[axis] : hi[axis];
+        rays.push_back({o, 0.0f, d, kInfinity});
+    }
+    // Starting on a surface (tmin 0): the origin's own triangle may be hit at t = 0.
+    for (size_t i = 0; tris && i < share; ++i) {
+        const auto t = uint32_t(rng() % tris);
+        const float a = u01(rng), c = u01(rng) * (1.0f - a);
+        rays.push_back({surface_point(t, a, c), 0.0f, random_dir(), kInfinity});
+    }
+    // Narrow and shifted windows around a hit point along a random ray.
+    for (size_t i = 0; tris && i < share; ++i) {
+        const auto t = uint32_t(rng() % tris);
+        const Vec3 target = surface_point(t, 0.3f, 0.3f);
+        const Vec3 o = random_point(rng, lo, hi);
+        const Vec3 d = target - o;  // the target lies at t = 1
+        switch (i % 4) {
+        case 0: rays.push_back({o, 0.999f, d, 1.001f}); break;
+        case 1: rays.push_back({o, 1.001f, d, kInfinity}); break;  // beyond the target
+        case 2: rays.push_back({o, 0.0f, d, 0.999f}); break;       // stops short of it
+        default: rays.push_back({o, 1.0f, d, 1.0f}); break;        // a single point
+        }
+    }
+    // The rest: fully random.
+    while (rays.size() < count) rays.push_back({random_point(rng, lo, hi), 0.0f, random_dir(), kInfinity});
+    return rays;
+}
+
+}  // namespace thicket::testing

@@ -1,0 +1,30 @@
+#pragma once
+// Scenes and ray sets the conformance suite runs every structure on.
+#include <string>
+#include <vector>
+
+#include "thicket/core/ray.h"
+#include "thicket/scene/scene.h"
+
+namespace thicket::testing {
+
+/// Generated scenes that break naive structures: empty, one triangle, zero-area and duplicate
+/// triangles, coplanar overlaps, all centroids equal, huge and tiny coordinates, a closed mesh.
+std::vector<Scene> nasty_scenes();
+
+/// Directory of the shared real scenes, or "" when ../shared/scenes is absent.
+std::string shared_scene_dir();
+/// Every shared scene file (*.ply, *.obj) path, sorted; empty when absent.
+std::vector<std::string> shared_scene_files();
+/// Message for GTEST_SKIP when the shared scenes are missing.
+std::string shared_scenes_missing_message();
+
+/// Loads a scene once per process (real scenes are large; every test reuses them).
+const Scene& cached_scene(const std::string& path);
+
+/// The rays every structure must answer like brute force on `scene`: random, aimed at
+/// vertices and edge midpoints, axis-parallel with +-0 components, starting on surfaces, and
+/// with narrow [tmin, tmax] windows around and beside the true hit. Deterministic per seed.
+std::vector<Ray> conformance_rays(const Scene& scene, size_t count, uint32_t seed = 1);
+
+}  // namespace thicket::testing
