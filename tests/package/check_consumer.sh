@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Usage: check_consumer.sh package BUILD_DIR SOURCE_DIR   (install, then find_package)
+#        check_consumer.sh subdirectory BUILD_DIR SOURCE_DIR
+set -euo pipefail
+via=$1 build=$2 source=$3
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+if [ "$via" = package ]; then
+  cmake --install "$build" --prefix "$work/prefix" >/dev/null
+  cmake -S "$source/tests/package/consumer" -B "$work/consumer" -DCMAKE_PREFIX_PATH="$work/prefix" >/dev/null
+else
+  cmake -S "$source/tests/package/consumer" -B "$work/consumer" -DTHICKET_VIA=subdirectory \
+        -DTHICKET_SOURCE="$source" -DCMAKE_BUILD_TYPE=Release >/dev/null
+fi
+cmake --build "$work/consumer" -j2 >/dev/null
+"$work/consumer/consumer"
