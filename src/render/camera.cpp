@@ -1,0 +1,127 @@
+#include "thicket/render/camera.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "thicket/core/error.h"
+
+namespace thicket {
+
+namespace {
+
+constexpr float kPi = 3.14159265358979323846f;
+
+bool finite(Vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+std::string_view trim(std::string_view s) {
+    while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+    while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
+    return s;
+}
+
+}  // namespace
+
+Camera::Camera(Vec3 position, Vec3 target, Vec3 up, float fov_degrees)
+    : position_(position), target_(target), fov_(fov_degrees) {
+    if (!finite(position) || !finite(target) || !finite(up))
+        throw Error("camera: position, target and up must be finite numbers");
+    if (!(fov_degrees > 0.0f && fov_degrees < 180.0f))
+        throw Error("camera: field of view " + std::to_string(fov_degrees) + " is not in (0, 180) degrees");
+    const Vec3 view = target - position;
+    if (!(length(view) > 0.0f)) throw Error("camera: position and target are the same point");
+    forward_ = normalize(view);
+    // Looking straight up or down leaves `up` undefined; fall back to the axis pointing "away".
+    const Vec3 candidates[] = {up, forward_.y <= 0.0f ? Vec3{0, 0, -1} : Vec3{0, 0, 1}, Vec3{0, 1, 0}};
+    for (const Vec3& c : candidates) {
+        const Vec3 r = cross(forward_, c);
+        if (length(r) > 1e-6f * std::max(1.0f, length(c))) {
+            right_ = normalize(r);
+            break;
+        }
+    }
+    up_ = cross(right_, forward_);
+    tan_half_ = std::tan(0.5f * fov_ * kPi / 180.0f);
+}
+
+Ray Camera::generate(float px, float py, int width, int height) const {
+    const float aspect = float(width) / float(height);
+    const float sx = (2.0f * px / float(width) - 1.0f) * aspect * tan_half_;
+    const float sy = (1.0f - 2.0f * py / float(height)) * tan_half_;
+    Ray ray;
+    ray.org = position_;
+    ray.dir = normalize(forward_ + right_ * sx + up_ * sy);
+    ray.tmin = 0.0f;
+    ray.tmax = kInfinity;
+    return ray;
+}
+
+bool Camera::project(Vec3 p, int width, int height, float& px, float& py) const {
+    const Vec3 d = p - position_;
+    const float z = dot(d, forward_);
+    if (!(z > 0.0f)) return false;
+    const float aspect = float(width) / float(height);
+    const float sx = dot(d, right_) / z, sy = dot(d, up_) / z;
+    px = (sx / (aspect * tan_half_) + 1.0f) * 0.5f * float(width);
+    py = (1.0f - sy / tan_half_) * 0.5f * float(height);
+    return true;
+}
+
+Camera auto_camera(const Aabb& bounds, float aspect) {
+    if (!(aspect > 0.0f) || !std::isfinite(aspect)) throw Error("auto_camera: aspect ratio must be positive");
+    constexpr float kElevation = 10.0f * kPi / 180.0f;
+    const Vec3 toward_camera{0.0f, std::sin(kElevation), std::cos(kElevation)};
+    if (bounds.empty() || !finite(bounds.min) || !finite(bounds.max)) return Camera(toward_camera, Vec3{0.0f});
+
+    const Vec3 centre = bounds.center();
+    // The frame is fixed by the direction alone, so build a unit-distance camera to read it.
+    const Camera probe(centre + toward_camera, centre);
+    const float tan_v = std::tan(0.5f * kDefaultFovDegrees * kPi / 180.0f);
+    const float tan_h = tan_v * aspect;
+    float needed = 0.0f;
+    for (int i = 0; i < 8; ++i) {
+        const Vec3 corner{(i & 1) ? bounds.max.x : bounds.min.x, (i & 2) ? bounds.max.y : bounds.min.y,
+                          (i & 4) ? bounds.max.z : bounds.min.z};
+        const Vec3 q = corner - centre;
+        // A corner is inside the image when |x| <= tan_h * depth and |y| <= tan_v * depth, with
+        // depth = distance - dot(q, toward_camera): solve for the distance.
+        const float base = dot(q, toward_camera);
+        needed = std::max(needed, base + std::fabs(dot(q, probe.right())) / tan_h);
+        needed = std::max(needed, base + std::fabs(dot(q, probe.up())) / tan_v);
+    }
+    const float scale = std::max(1.0f, length(centre));
+    const float distance = needed > 1e-6f * scale ? 1.05f * needed : 1.0f;
+    return Camera(centre + toward_camera * distance, centre);
+}
+
+Camera parse_camera(std::string_view text) {
+    const std::string quoted = "--camera '" + std::string(text) + "'";
+    std::vector<float> values;
+    size_t start = 0;
+    while (true) {
+        const size_t comma = text.find(',', start);
+        const std::string_view field = trim(text.substr(start, comma == std::string_view::npos ? text.npos : comma - start));
+        float v = 0.0f;
+        const auto [end, ec] = std::from_chars(field.data(), field.data() + field.size(), v);
+        if (field.empty() || ec != std::errc() || end != field.data() + field.size())
+            throw Error(quoted + ": component " + std::to_string(values.size() + 1) + " ('" + std::string(field) +
+                        "') is not a number; expected px,py,pz,tx,ty,tz[,fov]");
+        if (!std::isfinite(v))
+            throw Error(quoted + ": component " + std::to_string(values.size() + 1) + " is not finite");
+        values.push_back(v);
+        if (comma == std::string_view::npos) break;
+        start = comma + 1;
+    }
+    if (values.size() != 6 && values.size() != 7)
+        throw Error(quoted + ": expected 6 or 7 comma-separated numbers px,py,pz,tx,ty,tz[,fov], got " +
+                    std::to_string(values.size()));
+    const Vec3 position{values[0], values[1], values[2]}, target{values[3], values[4], values[5]};
+    const float fov = values.size() == 7 ? values[6] : kDefaultFovDegrees;
+    if (!(fov > 0.0f && fov < 180.0f)) throw Error(quoted + ": fov must be in (0, 180) degrees");
+    if (position == target) throw Error(quoted + ": position and target are the same point");
+    return Camera(position, target, {0, 1, 0}, fov);
+}
+
+}  // namespace thicket

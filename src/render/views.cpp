@@ -1,0 +1,201 @@
+#include "thicket/render/views.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "thicket/core/error.h"
+#include "thicket/util/parallel.h"
+#include "thicket/util/progress.h"
+
+namespace thicket {
+
+namespace {
+
+constexpr Rgb8 kBlack{0, 0, 0};
+constexpr Rgb8 kWhite{255, 255, 255};
+
+// Farthest hits stay visibly grey so they never read as misses (black).
+constexpr float kDepthFarGrey = 0.2f;
+
+std::string format_tick(double v) {
+    char buf[32];
+    if (v == std::floor(v) && std::fabs(v) < 1e9)
+        std::snprintf(buf, sizeof buf, "%.0f", v);
+    else
+        std::snprintf(buf, sizeof buf, "%.1f", v);
+    return buf;
+}
+
+Vec3 normal_colour(const Scene& scene, const Hit& hit, Vec3 dir) {
+    if (hit.prim >= scene.primitive_count()) return Vec3{0.5f};
+    Vec3 n = scene.geometric_normal(hit.prim);
+    const float len = length(n);
+    if (!(len > 0.0f) || !std::isfinite(len)) return Vec3{0.5f};  // zero-area triangle: no direction
+    n = n / len;
+    if (dot(n, dir) > 0.0f) n = -n;  // show the side the viewer sees
+    return n * 0.5f + Vec3{0.5f};
+}
+
+}  // namespace
+
+View parse_view(std::string_view name) {
+    if (name == "depth") return View::Depth;
+    if (name == "normal") return View::Normal;
+    if (name == "heatmap") return View::Heatmap;
+    throw Error("unknown view '" + std::string(name) + "' (choose depth, normal or heatmap)");
+}
+
+const char* view_name(View view) {
+    switch (view) {
+        case View::Depth: return "depth";
+        case View::Normal: return "normal";
+        case View::Heatmap: return "heatmap";
+    }
+    return "?";
+}
+
+Vec3 heat_colour(float x) {
+    struct Stop {
+        float at;
+        Vec3 c;
+    };
+    static constexpr Stop kStops[] = {
+        {0.00f, {0.00f, 0.00f, 0.00f}},  // black
+        {0.18f, {0.12f, 0.07f, 0.60f}},  // blue
+        {0.40f, {0.70f, 0.12f, 0.65f}},  // magenta
+        {0.62f, {1.00f, 0.45f, 0.15f}},  // orange
+        {0.82f, {1.00f, 0.85f, 0.15f}},  // yellow
+        {1.00f, {1.00f, 1.00f, 1.00f}},  // white
+    };
+    if (!(x > 0.0f)) return kStops[0].c;
+    if (x >= 1.0f) return kStops[5].c;
+    int i = 0;
+    while (x > kStops[i + 1].at) ++i;
+    const float f = (x - kStops[i].at) / (kStops[i + 1].at - kStops[i].at);
+    return kStops[i].c + (kStops[i + 1].c - kStops[i].c) * f;
+}
+
+bool draw_heat_legend(Image& image, double max_value, std::string_view title) {
+    const int W = image.width(), H = image.height();
+    // One font pixel per 240 image rows keeps the labels about 3% of the height.
+    const int s = std::max(1, std::min(W / 320, H / 240));
+    const int margin = 3 * s, bar_h = 8 * s, band_h = 2 * s + bar_h + 3 * s + text_height(s) + 2 * s;
+    std::string label(title);
+    if (W < 160 * s) label = "nodes";  // narrow images: keep room for the bar
+    const int bx0 = margin + text_width(label, s) + 4 * s, bx1 = W - margin;
+    if (bx1 - bx0 < 40 * s || H < 2 * band_h) return false;
+
+    const int y0 = H - band_h, bar_y = y0 + 2 * s;
+    image.fill_rect(0, y0, W, H, kBlack);
+    draw_text(image, margin, bar_y + (bar_h - text_height(s)) / 2, label, s, kWhite);
+    for (int x = bx0; x < bx1; ++x) {
+        const Rgb8 c = to_rgb8(heat_colour(float(x - bx0) / float(bx1 - bx0 - 1)));
+        image.fill_rect(x, bar_y, x + 1, bar_y + bar_h, c);
+    }
+    // Ticks under 0, max/2 and max, with labels left-aligned, centred and right-aligned on them.
+    const int ticks[3] = {bx0, bx0 + (bx1 - bx0) / 2, bx1 - s};
+    const std::string labels[3] = {"0", format_tick(max_value / 2), format_tick(max_value)};
+    const int label_y = bar_y + bar_h + 3 * s;
+    for (int i = 0; i < 3; ++i) {
+        image.fill_rect(ticks[i], bar_y + bar_h, ticks[i] + s, bar_y + bar_h + 2 * s, kWhite);
+        const int w = text_width(labels[i], s);
+        const int lx = i == 0 ? ticks[0] : (i == 1 ? ticks[1] - w / 2 : bx1 - w);
+        draw_text(image, lx, label_y, labels[i], s, kWhite);
+    }
+    return true;
+}
+
+Image render_view(const Scene& scene, const Accel& accel, const Camera& camera, const RenderOptions& options,
+                  RenderStats* stats_out) {
+    const int W = options.width, H = options.height;
+    Image image(W, H);  // validates the size
+    if (!(options.heat_max >= 0.0) || !std::isfinite(options.heat_max))
+        throw Error("heat-max must be a non-negative number");
+
+    const size_t pixels = size_t(W) * size_t(H);
+    // Per-pixel results kept until the image-wide normalisation (depth range, heat scale) is known.
+    std::vector<float> depth(options.view == View::Depth ? pixels : 0, -1.0f);
+    std::vector<uint32_t> nodes(options.view == View::Heatmap ? pixels : 0, 0);
+    std::atomic<uint64_t> hits{0}, prims_tested{0}, nodes_visited{0};
+
+    Progress progress("render", uint64_t(pixels), "rays", options.progress);
+    const auto start = std::chrono::steady_clock::now();
+    parallel_for(size_t(H), 1, options.threads, [&](size_t row_begin, size_t row_end) {
+        uint64_t chunk_hits = 0, chunk_prims = 0, chunk_nodes = 0;
+        for (size_t y = row_begin; y < row_end; ++y) {
+            for (int x = 0; x < W; ++x) {
+                const Ray ray = camera.generate(float(x) + 0.5f, float(y) + 0.5f, W, H);
+                const size_t i = y * size_t(W) + size_t(x);
+                Hit hit;
+                if (options.view == View::Heatmap) {
+                    RayCounters counters;
+                    hit = accel.intersect(ray, counters);
+                    nodes[i] = uint32_t(std::min<uint64_t>(counters.nodes, std::numeric_limits<uint32_t>::max()));
+                    chunk_nodes += counters.nodes;
+                    chunk_prims += counters.prims;
+                } else {
+                    hit = accel.intersect(ray);
+                }
+                if (!hit.found()) continue;
+                ++chunk_hits;
+                if (options.view == View::Depth)
+                    depth[i] = hit.t;
+                else if (options.view == View::Normal)
+                    image.at(x, int(y)) = to_rgb8(normal_colour(scene, hit, ray.dir));
+            }
+        }
+        hits += chunk_hits;
+        prims_tested += chunk_prims;
+        nodes_visited += chunk_nodes;
+        progress.advance((row_end - row_begin) * size_t(W));
+    });
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    progress.finish();
+
+    RenderStats stats;
+    stats.rays = pixels;
+    stats.hits = hits;
+    stats.seconds = seconds;
+    stats.rays_per_second = seconds > 0 ? double(pixels) / seconds : 0.0;
+
+    if (options.view == View::Depth) {
+        float near = kInfinity, far = -kInfinity;
+        for (float t : depth) {
+            if (!(t >= 0.0f) || !std::isfinite(t)) continue;
+            near = std::min(near, t);
+            far = std::max(far, t);
+        }
+        if (near <= far) {
+            stats.depth_near = near;
+            stats.depth_far = far;
+        }
+        const float range = far - near;
+        for (size_t i = 0; i < pixels; ++i) {
+            const float t = depth[i];
+            if (!(t >= 0.0f) || !std::isfinite(t)) continue;
+            const float f = range > 0.0f ? (t - near) / range : 0.0f;
+            const Rgb8 grey = to_rgb8(Vec3{1.0f - (1.0f - kDepthFarGrey) * f});
+            image.at(int(i % size_t(W)), int(i / size_t(W))) = grey;
+        }
+    } else if (options.view == View::Heatmap) {
+        const uint32_t max_nodes = nodes.empty() ? 0 : *std::max_element(nodes.begin(), nodes.end());
+        stats.max_nodes = max_nodes;
+        stats.avg_nodes = double(nodes_visited.load()) / double(pixels);
+        stats.avg_prims = double(prims_tested.load()) / double(pixels);
+        stats.heat_scale = options.heat_max > 0.0 ? options.heat_max : std::max<double>(max_nodes, 1.0);
+        for (size_t i = 0; i < pixels; ++i)
+            image.at(int(i % size_t(W)), int(i / size_t(W))) =
+                to_rgb8(heat_colour(float(double(nodes[i]) / stats.heat_scale)));
+        if (options.legend) stats.legend_drawn = draw_heat_legend(image, stats.heat_scale);
+    }
+    if (stats_out) *stats_out = stats;
+    return image;
+}
+
+}  // namespace thicket

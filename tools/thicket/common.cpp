@@ -1,0 +1,89 @@
+#include "common.h"
+
+#include <chrono>
+#include <cstdio>
+
+#include "thicket/util/progress.h"
+
+namespace thicket::cli {
+
+std::string scene_help() {
+    return std::string("scene to load: a .ply, .obj, .gltf or .glb file, or a built-in scene (") +
+           builtin_scene_names() + ")";
+}
+
+void add_scene_argument(CLI::App* cmd, std::string& scene) {
+    cmd->add_option("SCENE", scene, scene_help())->required()->type_name("SCENE");
+}
+
+void add_accel_options(CLI::App* cmd, AccelChoice& choice, bool accel_required) {
+    CLI::Option* accel = cmd->add_option("-a,--accel", choice.spec,
+                                         "acceleration structure spec NAME[:key=value,...], e.g. "
+                                         "bvh:builder=binned-sah,bins=16 (see `thicket accels`)")
+                             ->type_name("SPEC");
+    if (accel_required) {
+        accel->required();
+        return;
+    }
+    accel->default_str("bvh");
+    CLI::Option* load = cmd->add_option("--load", choice.load,
+                                        "use a structure saved by `thicket build` instead of building one "
+                                        "(it must have been built over the same scene)")
+                            ->type_name("FILE");
+    accel->excludes(load);
+    load->excludes(accel);
+}
+
+void add_threads_option(CLI::App* cmd, unsigned& threads) {
+    cmd->add_option("-j,--threads", threads, "worker threads (0: one per core)")
+        ->default_str("0")
+        ->type_name("N");
+}
+
+void validate_accel_choice(const AccelChoice& choice) {
+    if (choice.load.empty()) parse_accel_spec(choice.spec);
+}
+
+double ms_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::string format_bytes(double bytes) {
+    static const char* const units[] = {"B", "KiB", "MiB", "GiB", "TiB"};
+    int u = 0;
+    while (bytes >= 1024.0 && u < 4) {
+        bytes /= 1024.0;
+        ++u;
+    }
+    char buf[32];
+    std::snprintf(buf, sizeof buf, u == 0 ? "%.0f %s" : "%.1f %s", bytes, units[u]);
+    return buf;
+}
+
+Scene load_scene_verbose(const std::string& path) {
+    const auto start = std::chrono::steady_clock::now();
+    Scene scene = load_scene(path);
+    std::printf("scene   %s: %zu triangles, %zu vertices, loaded in %s\n", scene.name.c_str(),
+                scene.primitive_count(), scene.mesh.positions.size(), format_duration(ms_since(start) / 1000).c_str());
+    return scene;
+}
+
+std::unique_ptr<Accel> make_accel_verbose(const AccelChoice& choice, const Scene& scene) {
+    std::unique_ptr<Accel> accel;
+    std::string how;
+    if (!choice.load.empty()) {
+        const auto start = std::chrono::steady_clock::now();
+        accel = load_accel(choice.load, scene);
+        how = "loaded from " + choice.load + " in " + format_duration(ms_since(start) / 1000);
+    } else {
+        accel = build_accel(choice.spec, scene);
+    }
+    const AccelStats st = accel->stats();
+    if (how.empty()) how = "built in " + format_duration(st.build_ms / 1000);
+    std::printf("accel   %s: %s, %zu nodes (%zu leaves, depth %zu), %s\n", accel->spec().c_str(), how.c_str(),
+                st.nodes, st.leaves, st.max_depth, format_bytes(double(st.bytes)).c_str());
+    std::fflush(stdout);
+    return accel;
+}
+
+}  // namespace thicket::cli

@@ -1,0 +1,54 @@
+#pragma once
+// Pieces shared by the `thicket` subcommands: scene and structure loading with timings, option
+// parsing helpers, and the Command type each cmd_*.cpp registers.
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "thicket/accel/registry.h"
+#include "thicket/scene/scene.h"
+
+namespace thicket::cli {
+
+/// A registered subcommand: its CLI11 app and what to run when it was chosen (returns the exit code).
+struct Command {
+    CLI::App* app = nullptr;
+    std::function<int()> run;
+};
+
+Command add_render_command(CLI::App& app);
+Command add_trace_command(CLI::App& app);
+Command add_info_command(CLI::App& app);
+Command add_build_command(CLI::App& app);
+Command add_accels_command(CLI::App& app);
+
+/// The --accel SPEC / --load FILE pair (mutually exclusive).
+struct AccelChoice {
+    std::string spec = "bvh";
+    std::string load;
+};
+
+/// Help text of the SCENE argument.
+std::string scene_help();
+/// Adds the SCENE positional argument.
+void add_scene_argument(CLI::App* cmd, std::string& scene);
+/// Adds --accel and --load; `accel_required` makes --accel mandatory (and omits --load).
+void add_accel_options(CLI::App* cmd, AccelChoice& choice, bool accel_required = false);
+/// Adds --threads N (0, the default, uses every core).
+void add_threads_option(CLI::App* cmd, unsigned& threads);
+
+/// Checks --accel's spec before any slow work, so a typo fails at once (throws Error).
+void validate_accel_choice(const AccelChoice& choice);
+/// Loads the scene and prints one line about it.
+Scene load_scene_verbose(const std::string& path);
+/// Builds (or loads with --load) the structure and prints one line about it.
+std::unique_ptr<Accel> make_accel_verbose(const AccelChoice& choice, const Scene& scene);
+
+/// "12.3 KiB" style byte counts.
+std::string format_bytes(double bytes);
+/// Milliseconds since `start` (a steady_clock time point).
+double ms_since(std::chrono::steady_clock::time_point start);
+
+}  // namespace thicket::cli
