@@ -39,20 +39,43 @@ public:
     Vec3 centroid(uint32_t i) const { return (tris_[i].v0 + tris_[i].v1 + tris_[i].v2) * (1.0f / 3.0f); }
 
     /// Closest-hit update: if primitive i is hit within [ray.tmin, hit.t], overwrite hit.
-    /// Hits obey hit_within_bounds() (checked only once a hit is found: off the common path).
     bool intersect(uint32_t i, const Ray& ray, Hit& hit) const {
         TriangleHit th;
-        if (!intersect_triangle<Test>(tris_[i].v0, tris_[i].v1, tris_[i].v2, ray, hit.t, th)) return false;
-        if (!hit_within_bounds(ray, th.t, bounds(i))) return false;
+        const Tri& tri = tris_[i];
+        if (!intersect_triangle<Test>(tri.v0, tri.v1, tri.v2, ray, hit.t, th) || !plausible(tri, ray, th.t))
+            return false;
         hit = {th.t, th.u, th.v, i};
         return true;
     }
     /// Any-hit: is primitive i hit within [ray.tmin, ray.tmax]?
     bool occludes(uint32_t i, const Ray& ray) const {
         TriangleHit th;
-        return intersect_triangle<Test>(tris_[i].v0, tris_[i].v1, tris_[i].v2, ray, ray.tmax, th) &&
-               hit_within_bounds(ray, th.t, bounds(i));
+        const Tri& tri = tris_[i];
+        return intersect_triangle<Test>(tri.v0, tri.v1, tri.v2, ray, ray.tmax, th) && plausible(tri, ray, th.t);
     }
+
+    /// Whether a hit the test reported is real: the triangle has an interior, and t lies in the
+    /// ray's interval through the triangle's box (hit_within_bounds). Checked only once a test
+    /// reports a hit, so the common path pays nothing.
+    static bool plausible(const Tri& tri, const Ray& ray, float t) {
+        Aabb box;
+        box.grow(tri.v0);
+        box.grow(tri.v1);
+        box.grow(tri.v2);
+        return !degenerate(tri) && hit_within_bounds(ray, t, box);
+    }
+
+    /// A triangle whose edges are parallel to within float precision has no interior: the
+    /// ray/triangle tests' results on it are rounding noise (hits reported far outside the
+    /// triangle's own box, which brute force would accept and any box hierarchy would cull).
+    static bool degenerate(const Tri& tri) {
+        const Vec3 e1 = tri.v1 - tri.v0, e2 = tri.v2 - tri.v0;
+        const Vec3 n = cross(e1, e2);
+        // In double: the fourth powers of edge lengths overflow float for coordinates past ~1e9.
+        const double sine2 = double(kDegenerateSine) * kDegenerateSine;
+        return !(double(dot(n, n)) > sine2 * double(dot(e1, e1)) * double(dot(e2, e2)));
+    }
+    static constexpr float kDegenerateSine = 1e-6f;  ///< |e1 x e2| / (|e1| |e2|) at or below: degenerate
 
 private:
     std::vector<Tri> tris_;
