@@ -29,13 +29,7 @@ public:
     size_t size() const { return tris_.size(); }
     size_t bytes() const { return tris_.size() * sizeof(Tri); }
 
-    Aabb bounds(uint32_t i) const {
-        Aabb b;
-        b.grow(tris_[i].v0);
-        b.grow(tris_[i].v1);
-        b.grow(tris_[i].v2);
-        return b;
-    }
+    Aabb bounds(uint32_t i) const { return box_of(tris_[i]); }
     Vec3 centroid(uint32_t i) const { return (tris_[i].v0 + tris_[i].v1 + tris_[i].v2) * (1.0f / 3.0f); }
 
     /// Closest-hit update: if primitive i is hit within [ray.tmin, hit.t], overwrite hit.
@@ -58,11 +52,15 @@ public:
     /// ray's interval through the triangle's box (hit_within_bounds). Checked only once a test
     /// reports a hit, so the common path pays nothing.
     static bool plausible(const Tri& tri, const Ray& ray, float t) {
-        Aabb box;
-        box.grow(tri.v0);
-        box.grow(tri.v1);
-        box.grow(tri.v2);
-        return !degenerate(tri) && hit_within_bounds(ray, t, box);
+        return !degenerate(tri) && hit_within_bounds(ray, t, box_of(tri));
+    }
+
+    static Aabb box_of(const Tri& tri) {
+        Aabb b;
+        b.grow(tri.v0);
+        b.grow(tri.v1);
+        b.grow(tri.v2);
+        return b;
     }
 
     /// A triangle whose edges are parallel to within float precision has no interior: the
