@@ -3,6 +3,7 @@
 #include <exception>
 #include <vector>
 
+#include "bench_commands.h"
 #include "common.h"
 #include "thicket/core/error.h"
 
@@ -21,7 +22,8 @@ int main(int argc, char** argv) {
     try {
         commands = {thicket::cli::add_render_command(app), thicket::cli::add_trace_command(app),
                     thicket::cli::add_info_command(app), thicket::cli::add_build_command(app),
-                    thicket::cli::add_accels_command(app)};
+                    thicket::cli::add_accels_command(app), thicket::cli::add_rays_command(app),
+                    thicket::cli::add_bench_command(app)};
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         // Help and --version "fail" with exit code 0; real usage errors get the shell's usual 2.

@@ -1,0 +1,143 @@
+// The Embree backend answers like Thicket's structures: the same barycentric convention, the same
+// inclusive [tmin, tmax] interval, the same hits on a real scene, and it counts its memory.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "embree_tracer.h"
+#include "thicket/accel/registry.h"
+#include "thicket/bench/agreement.h"
+#include "thicket/bench/ray_sets.h"
+#include "thicket/core/error.h"
+
+using namespace thicket;
+
+namespace {
+
+Scene one_triangle() {
+    Scene s;
+    s.name = "one triangle";
+    s.mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    s.mesh.indices = {0, 1, 2};
+    return s;
+}
+
+Ray down_at(float x, float y, float tmin = 0.0f, float tmax = kInfinity) {
+    Ray r;
+    r.org = {x, y, 1.0f};
+    r.dir = {0, 0, -1};
+    r.tmin = tmin;
+    r.tmax = tmax;
+    return r;
+}
+
+Hit trace_one(const Tracer& t, const Ray& r) {
+    Hit h;
+    t.trace(std::span<const Ray>(&r, 1), std::span<Hit>(&h, 1), 1);
+    return h;
+}
+
+bool occluded_one(const Tracer& t, const Ray& r) {
+    uint8_t f = 0;
+    t.occluded(std::span<const Ray>(&r, 1), std::span<uint8_t>(&f, 1), 1);
+    return f != 0;
+}
+
+class EmbreeTracerTest : public ::testing::TestWithParam<EmbreeQuality> {};
+
+TEST_P(EmbreeTracerTest, BarycentricsAreTheWeightsOfVertices1And2) {
+    const Scene scene = one_triangle();
+    auto embree = make_embree_tracer(GetParam());
+    embree->build(scene, 1);
+    const Hit h = trace_one(*embree, down_at(0.2f, 0.3f));
+    ASSERT_TRUE(h.found());
+    EXPECT_EQ(h.prim, 0u);
+    EXPECT_NEAR(h.t, 1.0f, 1e-6f);
+    EXPECT_NEAR(h.u, 0.2f, 1e-6f);
+    EXPECT_NEAR(h.v, 0.3f, 1e-6f);
+
+    auto brute = build_accel("brute", scene);
+    const Hit b = brute->intersect(down_at(0.2f, 0.3f));
+    EXPECT_NEAR(h.u, b.u, 1e-6f);
+    EXPECT_NEAR(h.v, b.v, 1e-6f);
+}
+
+TEST_P(EmbreeTracerTest, IntervalIsInclusiveAtBothEnds) {
+    const Scene scene = one_triangle();
+    auto embree = make_embree_tracer(GetParam());
+    embree->build(scene, 0);
+    // The hit lies at t = 1 exactly (origin z = 1, plane z = 0, unit direction).
+    EXPECT_TRUE(trace_one(*embree, down_at(0.25f, 0.25f, 0.0f, 1.0f)).found());
+    EXPECT_TRUE(trace_one(*embree, down_at(0.25f, 0.25f, 1.0f, 2.0f)).found());
+    EXPECT_FALSE(trace_one(*embree, down_at(0.25f, 0.25f, 0.0f, 0.999f)).found());
+    EXPECT_FALSE(trace_one(*embree, down_at(0.25f, 0.25f, 1.001f, 2.0f)).found());
+    EXPECT_TRUE(occluded_one(*embree, down_at(0.25f, 0.25f, 0.0f, 1.0f)));
+    EXPECT_TRUE(occluded_one(*embree, down_at(0.25f, 0.25f, 1.0f, 2.0f)));
+    EXPECT_FALSE(occluded_one(*embree, down_at(0.25f, 0.25f, 0.0f, 0.999f)));
+    EXPECT_FALSE(occluded_one(*embree, down_at(0.25f, 0.25f, 1.001f, 2.0f)));
+    EXPECT_FALSE(occluded_one(*embree, down_at(0.9f, 0.9f)));  // beside the triangle
+}
+
+TEST_P(EmbreeTracerTest, AnswersLikeBruteForceOnTheCornellBox) {
+    const Scene scene = load_scene("cornell");
+    auto bvh = build_accel("bvh", scene);
+    RaySetOptions options;
+    options.width = 64;
+    options.height = 48;
+    const std::vector<std::string> names{"primary", "shadow", "diffuse", "random"};
+    const std::vector<RaySet> sets = generate_ray_sets(scene, *bvh, names, options, 1);
+
+    auto embree = make_embree_tracer(GetParam());
+    embree->build(scene, 0);
+    auto brute = make_accel_tracer("brute");
+    brute->build(scene, 1);
+    for (const RaySet& set : sets) {
+        SCOPED_TRACE(set.name);
+        ASSERT_FALSE(set.rays.empty());
+        if (set.any_hit) {
+            std::vector<uint8_t> a(set.rays.size()), b(set.rays.size());
+            embree->occluded(set.rays, a, 0);
+            brute->occluded(set.rays, b, 0);
+            EXPECT_GE(compare_occlusion(a, b).percent(), 99.5);
+        } else {
+            std::vector<Hit> a(set.rays.size()), b(set.rays.size());
+            embree->trace(set.rays, a, 0);
+            brute->trace(set.rays, b, 0);
+            const Agreement agreement = compare_hits(a, b);
+            EXPECT_GE(agreement.percent(), 99.5);
+            EXPECT_LT(agreement.max_dt_rel, 1e-4);
+        }
+    }
+}
+
+TEST_P(EmbreeTracerTest, CountsItsMemoryAndNamesItself) {
+    const Scene scene = load_scene("cornell");
+    auto embree = make_embree_tracer(GetParam());
+    EXPECT_THROW(trace_one(*embree, down_at(0, 0)), Error);
+    EXPECT_TRUE(embree->parallel_build());
+    const double ms = embree->build(scene, 1);
+    EXPECT_GE(ms, 0.0);
+    const TracerFigures f = embree->figures();
+    EXPECT_EQ(f.primitives, scene.primitive_count());
+    EXPECT_GT(f.bytes, 0u);
+    EXPECT_NE(f.spec.find("embree"), std::string::npos);
+    EXPECT_EQ(embree->name(), GetParam() == EmbreeQuality::High ? "embree-high" : "embree-medium");
+    RayCounters c;
+    EXPECT_FALSE(embree->count({}, false, c, 1));
+}
+
+TEST(EmbreeTracer, EmptySceneMissesEverything) {
+    const Scene empty;
+    auto embree = make_embree_tracer(EmbreeQuality::High);
+    embree->build(empty, 1);
+    EXPECT_FALSE(trace_one(*embree, down_at(0.2f, 0.2f)).found());
+    EXPECT_FALSE(occluded_one(*embree, down_at(0.2f, 0.2f)));
+    EXPECT_FALSE(embree_version().empty());
+}
+
+INSTANTIATE_TEST_SUITE_P(Qualities, EmbreeTracerTest, ::testing::Values(EmbreeQuality::Medium, EmbreeQuality::High),
+                         [](const auto& info) { return std::string(embree_tracer_name(info.param) + 7); });
+
+}  // namespace

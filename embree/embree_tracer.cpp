@@ -1,0 +1,228 @@
+#include "embree_tracer.h"
+
+#include <embree3/rtcore.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "thicket/core/error.h"
+#include "thicket/util/parallel.h"
+
+namespace thicket {
+
+namespace {
+
+constexpr size_t kGrain = kTraceGrain;  // the same chunking as Thicket's own tracer
+
+// What Embree's callbacks report while a device lives.
+struct DeviceLog {
+    std::atomic<int64_t> bytes{0};  // net bytes the device holds (allocations minus frees)
+    std::mutex mutex;
+    std::string first_error;
+};
+
+bool on_memory(void* user, ssize_t bytes, bool) {
+    static_cast<DeviceLog*>(user)->bytes.fetch_add(int64_t(bytes), std::memory_order_relaxed);
+    return true;  // never veto an allocation
+}
+
+void on_error(void* user, RTCError code, const char* message) {
+    auto* log = static_cast<DeviceLog*>(user);
+    std::lock_guard<std::mutex> lock(log->mutex);
+    if (log->first_error.empty())
+        log->first_error =
+            "Embree error " + std::to_string(int(code)) + ": " + (message ? message : "(no message)");
+}
+
+class EmbreeTracer final : public Tracer {
+public:
+    explicit EmbreeTracer(EmbreeQuality quality) : quality_(quality) {}
+    ~EmbreeTracer() override { release(); }
+    EmbreeTracer(const EmbreeTracer&) = delete;
+    EmbreeTracer& operator=(const EmbreeTracer&) = delete;
+
+    std::string name() const override { return embree_tracer_name(quality_); }
+    bool parallel_build() const override { return true; }
+
+    double build(const Scene& scene, unsigned threads) override {
+        release();
+        log_ = std::make_unique<DeviceLog>();
+        // threads=N bounds Embree's task system; 0 leaves it at one thread per core.
+        const std::string config = threads ? "threads=" + std::to_string(threads) : "";
+        device_ = rtcNewDevice(config.c_str());
+        if (!device_)
+            throw Error("Embree: cannot create a device (error " + std::to_string(int(rtcGetDeviceError(nullptr))) +
+                        ")");
+        rtcSetDeviceErrorFunction(device_, on_error, log_.get());
+        rtcSetDeviceMemoryMonitorFunction(device_, on_memory, log_.get());
+
+        // Our own copies of the mesh, shared with Embree (not copied by it, so not in its byte
+        // count): positions padded by one float because Embree reads vertices with 16-byte loads.
+        const TriangleMesh& mesh = scene.mesh;
+        vertices_.assign(3 * mesh.positions.size() + 1, 0.0f);
+        for (size_t i = 0; i < mesh.positions.size(); ++i) {
+            vertices_[3 * i] = mesh.positions[i].x;
+            vertices_[3 * i + 1] = mesh.positions[i].y;
+            vertices_[3 * i + 2] = mesh.positions[i].z;
+        }
+        indices_ = mesh.indices;
+        indices_.push_back(0);
+        primitives_ = mesh.triangle_count();
+
+        // Commit an empty scene first, untimed: it starts the device's task system, a one-time cost
+        // that would otherwise land on whichever build happens to come first.
+        RTCScene warm_up = rtcNewScene(device_);
+        rtcCommitScene(warm_up);
+        rtcReleaseScene(warm_up);
+
+        const RTCBuildQuality quality =
+            quality_ == EmbreeQuality::High ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM;
+        const int64_t before = log_->bytes.load();
+        const auto start = std::chrono::steady_clock::now();
+        scene_ = rtcNewScene(device_);
+        rtcSetSceneBuildQuality(scene_, quality);
+        if (primitives_ > 0) {
+            RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+            rtcSetGeometryBuildQuality(geometry, quality);
+            rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices_.data(), 0,
+                                       3 * sizeof(float), mesh.positions.size());
+            rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, indices_.data(), 0,
+                                       3 * sizeof(uint32_t), primitives_);
+            rtcCommitGeometry(geometry);
+            rtcAttachGeometryByID(scene_, geometry, 0);
+            rtcReleaseGeometry(geometry);  // the scene keeps it
+        }
+        rtcCommitScene(scene_);
+        const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        check();
+        bytes_ = size_t(std::max<int64_t>(0, log_->bytes.load() - before));
+        return ms;
+    }
+
+    TracerFigures figures() const override {
+        TracerFigures f;
+        f.spec = std::string("embree ") + embree_version_of(device_) + " rtcIntersect1/rtcOccluded1, build quality " +
+                 (quality_ == EmbreeQuality::High ? "high" : "medium");
+        f.primitives = primitives_;
+        f.bytes = bytes_;
+        f.structure_bytes = bytes_;  // Embree's leaves hold the triangles: not separable
+        return f;
+    }
+
+    void trace(std::span<const Ray> rays, std::span<Hit> hits, unsigned threads) const override {
+        RTCScene scene = get();
+        parallel_for(rays.size(), kGrain, threads, [&](size_t begin, size_t end) {
+            RTCIntersectContext context;
+            rtcInitIntersectContext(&context);
+            for (size_t i = begin; i < end; ++i) {
+                RTCRayHit rh;
+                set_ray(rh.ray, rays[i]);
+                rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+                rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+                rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+                rtcIntersect1(scene, &context, &rh);
+                const bool found = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+                hits[i] = found ? Hit{rh.ray.tfar, rh.hit.u, rh.hit.v, rh.hit.primID} : Hit{};
+            }
+        });
+        check();
+    }
+
+    void occluded(std::span<const Ray> rays, std::span<uint8_t> out, unsigned threads) const override {
+        RTCScene scene = get();
+        parallel_for(rays.size(), kGrain, threads, [&](size_t begin, size_t end) {
+            RTCIntersectContext context;
+            rtcInitIntersectContext(&context);
+            for (size_t i = begin; i < end; ++i) {
+                RTCRay ray;
+                set_ray(ray, rays[i]);
+                rtcOccluded1(scene, &context, &ray);
+                out[i] = ray.tfar == -INFINITY ? 1 : 0;  // Embree marks an occluded ray with tfar = -inf
+            }
+        });
+        check();
+    }
+
+    bool count(std::span<const Ray>, bool, RayCounters&, unsigned) const override { return false; }
+
+    static std::string embree_version_of(RTCDevice device) {
+        if (!device) return RTC_VERSION_STRING;
+        const ssize_t v = rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_VERSION);  // e.g. 31305
+        return std::to_string(v / 10000) + "." + std::to_string(v / 100 % 100) + "." + std::to_string(v % 100);
+    }
+
+private:
+    // Embree accepts t in (tnear, tfar] (its tests compare tnear < t), ours in [tmin, tmax]: start
+    // from the float just below tmin. tmin = 0 stays 0 because Embree needs tnear >= 0, so a hit at
+    // exactly t = 0, at the very origin, is the one hit Embree cannot report.
+    static float embree_tnear(float tmin) { return tmin > 0.0f ? std::nextafter(tmin, 0.0f) : tmin; }
+
+    static void set_ray(RTCRay& out, const Ray& r) {
+        out.org_x = r.org.x;
+        out.org_y = r.org.y;
+        out.org_z = r.org.z;
+        out.tnear = embree_tnear(r.tmin);
+        out.dir_x = r.dir.x;
+        out.dir_y = r.dir.y;
+        out.dir_z = r.dir.z;
+        out.time = 0.0f;
+        out.tfar = r.tmax;
+        out.mask = 0xFFFFFFFFu;  // Embree is built with ray masks: a zero mask would hit nothing
+        out.id = 0;
+        out.flags = 0;
+    }
+
+    RTCScene get() const {
+        if (!scene_) throw Error(name() + " used before build()");
+        return scene_;
+    }
+
+    void check() const {
+        std::lock_guard<std::mutex> lock(log_->mutex);
+        if (!log_->first_error.empty()) throw Error(name() + ": " + log_->first_error);
+    }
+
+    void release() {
+        if (scene_) rtcReleaseScene(scene_);
+        if (device_) rtcReleaseDevice(device_);
+        scene_ = nullptr;
+        device_ = nullptr;
+    }
+
+    EmbreeQuality quality_;
+    std::unique_ptr<DeviceLog> log_;
+    RTCDevice device_ = nullptr;
+    RTCScene scene_ = nullptr;
+    std::vector<float> vertices_;
+    std::vector<uint32_t> indices_;
+    size_t primitives_ = 0;
+    size_t bytes_ = 0;
+};
+
+}  // namespace
+
+const char* embree_tracer_name(EmbreeQuality quality) {
+    return quality == EmbreeQuality::High ? "embree-high" : "embree-medium";
+}
+
+std::unique_ptr<Tracer> make_embree_tracer(EmbreeQuality quality) {
+    return std::make_unique<EmbreeTracer>(quality);
+}
+
+TracerFactory embree_tracer_factory(EmbreeQuality quality) {
+    return {embree_tracer_name(quality), [quality] { return make_embree_tracer(quality); }};
+}
+
+std::string embree_version() {
+    RTCDevice device = rtcNewDevice("threads=1");
+    if (!device) return RTC_VERSION_STRING;
+    const std::string v = EmbreeTracer::embree_version_of(device);
+    rtcReleaseDevice(device);
+    return v;
+}
+
+}  // namespace thicket

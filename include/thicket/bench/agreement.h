@@ -1,0 +1,45 @@
+#pragma once
+/// Ray-for-ray comparison of a structure's answers with a reference's (Embree-high in the bench).
+///
+/// Two closest-hit answers agree when both miss, or both hit and either name the same primitive
+/// or lie at the same distance within kTieTolerance relative: a tie, where two primitives meet
+/// (a shared edge, coplanar overlaps) and either answer is right. Two any-hit answers agree when
+/// both flags are equal. Distance differences of hits on the same primitive do not make a
+/// disagreement (they are rounding of different intersection tests) but are reported as the
+/// largest t difference over the agreeing rays, which exposes a wrong distance.
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <span>
+
+#include "thicket/core/ray.h"
+
+namespace thicket {
+
+inline constexpr double kTieTolerance = 1e-4;
+
+struct Agreement {
+    size_t rays = 0;
+    size_t agreeing = 0;
+    double max_dt = 0.0;      ///< largest |t - t_ref| over agreeing rays where both hit
+    double max_dt_rel = 0.0;  ///< largest |t - t_ref| / max(|t|, |t_ref|) over the same rays
+    size_t first_mismatch = std::numeric_limits<size_t>::max();  ///< index of the first disagreement
+
+    size_t disagreeing() const { return rays - agreeing; }
+    /// Agreement in percent; 100 for no rays.
+    double percent() const { return rays ? 100.0 * double(agreeing) / double(rays) : 100.0; }
+};
+
+/// Whether two closest-hit answers agree by the rule above.
+bool hits_agree(const Hit& reference, const Hit& candidate);
+
+/// Compares closest-hit answers ray by ray; candidate[i] is compared with reference[index[i]]
+/// when `index` is given (a sample of the reference's rays), else with reference[i]. Sizes must
+/// match (throws Error otherwise).
+Agreement compare_hits(std::span<const Hit> reference, std::span<const Hit> candidate,
+                       std::span<const uint32_t> index = {});
+/// The same for any-hit answers (0 or 1 per ray).
+Agreement compare_occlusion(std::span<const uint8_t> reference, std::span<const uint8_t> candidate,
+                            std::span<const uint32_t> index = {});
+
+}  // namespace thicket

@@ -1,0 +1,96 @@
+// The Tracer adapter of Thicket's own structures: one virtual Accel call per ray, in the same
+// parallel loop shape as every other tracer.
+#include <memory>
+#include <mutex>
+
+#include "thicket/accel/registry.h"
+#include "thicket/bench/tracer.h"
+#include "thicket/core/error.h"
+#include "thicket/util/parallel.h"
+
+namespace thicket {
+
+namespace {
+
+constexpr size_t kGrain = kTraceGrain;
+
+class AccelTracer final : public Tracer {
+public:
+    explicit AccelTracer(std::string spec) : spec_(std::move(spec)) {}
+
+    std::string name() const override { return spec_; }
+    bool parallel_build() const override { return false; }
+
+    double build(const Scene& scene, unsigned) override {
+        accel_.reset();  // free the old structure before building the next
+        accel_ = build_accel(spec_, scene);
+        return accel_->build_ms();
+    }
+
+    TracerFigures figures() const override {
+        const AccelStats s = get().stats();
+        TracerFigures f;
+        f.spec = s.spec;
+        f.primitives = s.primitives;
+        f.structure_bytes = s.bytes;
+        f.primitive_bytes = s.primitive_bytes;
+        f.bytes = s.bytes + s.primitive_bytes;
+        f.nodes = s.nodes;
+        f.sah_cost = s.sah_cost;
+        return f;
+    }
+
+    void trace(std::span<const Ray> rays, std::span<Hit> hits, unsigned threads) const override {
+        const Accel& a = get();
+        parallel_for(rays.size(), kGrain, threads, [&](size_t begin, size_t end) {
+            for (size_t i = begin; i < end; ++i) hits[i] = a.intersect(rays[i]);
+        });
+    }
+
+    void occluded(std::span<const Ray> rays, std::span<uint8_t> out, unsigned threads) const override {
+        const Accel& a = get();
+        parallel_for(rays.size(), kGrain, threads, [&](size_t begin, size_t end) {
+            for (size_t i = begin; i < end; ++i) out[i] = a.occluded(rays[i]) ? 1 : 0;
+        });
+    }
+
+    bool count(std::span<const Ray> rays, bool any_hit, RayCounters& total, unsigned threads) const override {
+        const Accel& a = get();
+        std::mutex mutex;
+        parallel_for(rays.size(), kGrain, threads, [&](size_t begin, size_t end) {
+            RayCounters local;
+            for (size_t i = begin; i < end; ++i) {
+                if (any_hit)
+                    a.occluded(rays[i], local);
+                else
+                    a.intersect(rays[i], local);
+            }
+            std::lock_guard<std::mutex> lock(mutex);
+            total += local;
+        });
+        return true;
+    }
+
+private:
+    const Accel& get() const {
+        if (!accel_) throw Error("tracer '" + spec_ + "' used before build()");
+        return *accel_;
+    }
+
+    std::string spec_;
+    std::unique_ptr<Accel> accel_;
+};
+
+}  // namespace
+
+std::unique_ptr<Tracer> make_accel_tracer(const std::string& spec) {
+    parse_accel_spec(spec);
+    return std::make_unique<AccelTracer>(spec);
+}
+
+TracerFactory accel_tracer_factory(const std::string& spec) {
+    parse_accel_spec(spec);
+    return {spec, [spec] { return make_accel_tracer(spec); }};
+}
+
+}  // namespace thicket

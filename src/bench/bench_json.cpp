@@ -1,0 +1,114 @@
+#include "thicket/bench/bench_json.h"
+
+#include <cmath>
+#include <cstdio>
+
+namespace thicket {
+
+namespace {
+
+// Appends "key": value pairs to one JSON object.
+class ObjectWriter {
+public:
+    explicit ObjectWriter(std::string& out) : out_(out) { out_ += "{"; }
+    void close() { out_ += "}"; }
+
+    void raw(const char* key, const std::string& value) {
+        if (!first_) out_ += ", ";
+        first_ = false;
+        out_ += json_quote(key) + ": " + value;
+    }
+    void str(const char* key, const std::string& v) { raw(key, json_quote(v)); }
+    void boolean(const char* key, bool v) { raw(key, v ? "true" : "false"); }
+    void integer(const char* key, unsigned long long v) { raw(key, std::to_string(v)); }
+    void number(const char* key, double v) {
+        if (!std::isfinite(v)) return raw(key, "null");
+        char buf[40];
+        std::snprintf(buf, sizeof buf, "%.9g", v);
+        raw(key, buf);
+    }
+    void optional(const char* key, const std::optional<double>& v) {
+        if (v) return number(key, *v);
+        raw(key, "null");
+    }
+
+private:
+    std::string& out_;
+    bool first_ = true;
+};
+
+}  // namespace
+
+std::string json_quote(std::string_view s) {
+    std::string out = "\"";
+    for (char ch : s) {
+        const unsigned char c = static_cast<unsigned char>(ch);
+        switch (c) {
+        case '"': out += "\\\""; break;
+        case '\\': out += "\\\\"; break;
+        case '\n': out += "\\n"; break;
+        case '\r': out += "\\r"; break;
+        case '\t': out += "\\t"; break;
+        case '\b': out += "\\b"; break;
+        case '\f': out += "\\f"; break;
+        default:
+            if (c < 0x20) {
+                char buf[8];
+                std::snprintf(buf, sizeof buf, "\\u%04x", unsigned(c));
+                out += buf;
+            } else {
+                out += ch;
+            }
+        }
+    }
+    return out + "\"";
+}
+
+std::string bench_rows_json(std::span<const BenchRow> rows) {
+    std::string out = "[";
+    for (size_t i = 0; i < rows.size(); ++i) {
+        const BenchRow& r = rows[i];
+        out += i ? ",\n  " : "\n  ";
+        ObjectWriter o(out);
+        o.str("scene", r.scene);
+        o.integer("primitives", r.primitives);
+        o.str("accel", r.accel);
+        o.str("spec", r.spec);
+        o.str("set", r.set);
+        o.boolean("any_hit", r.any_hit);
+        o.integer("threads", r.threads);
+        o.integer("set_rays", r.set_rays);
+        o.integer("rays", r.rays);
+        o.integer("stride", r.stride);
+        o.integer("reps", (unsigned long long)r.reps);
+        o.integer("rounds", (unsigned long long)r.rounds);
+        o.number("mrays", r.mrays);
+        o.number("mrays_min", r.mrays_min);
+        o.number("mrays_max", r.mrays_max);
+        o.optional("ratio", r.ratio);
+        o.number("cpu_util", r.cpu_util);
+        o.integer("attempts", (unsigned long long)r.attempts);
+        o.number("build_ms", r.build_ms);
+        o.boolean("build_parallel", r.build_parallel);
+        o.integer("bytes", r.bytes);
+        o.integer("structure_bytes", r.structure_bytes);
+        o.integer("primitive_bytes", r.primitive_bytes);
+        o.number("bytes_per_prim", r.bytes_per_primitive());
+        o.integer("nodes", r.nodes);
+        o.optional("sah_cost", r.sah_cost > 0.0 ? std::optional<double>(r.sah_cost) : std::nullopt);
+        o.optional("nodes_per_ray", r.nodes_per_ray);
+        o.optional("prims_per_ray", r.prims_per_ray);
+        o.number("hit_rate", r.hit_rate);
+        o.optional("agree", r.agree);
+        if (r.agree)
+            o.integer("disagreeing", r.disagreeing);
+        else
+            o.raw("disagreeing", "null");
+        o.optional("max_dt", r.max_dt);
+        o.optional("max_dt_rel", r.max_dt_rel);
+        o.close();
+    }
+    return out + (rows.empty() ? "]\n" : "\n]\n");
+}
+
+}  // namespace thicket

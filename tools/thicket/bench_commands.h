@@ -1,0 +1,17 @@
+#pragma once
+// The bench's subcommands: `thicket rays` writes a standard ray set, `thicket bench` measures
+// structures (and Embree, when built with it) on those sets.
+#include "common.h"
+#include "thicket/bench/ray_sets.h"
+
+namespace thicket::cli {
+
+Command add_rays_command(CLI::App& app);
+Command add_bench_command(CLI::App& app);
+
+/// "x,y,z" as --camera spells a point.
+std::string vec_text(Vec3 v);
+/// Prints the camera and light lines of a ray-set view (`camera_given`: from --camera).
+void print_view(const RaySetView& view, bool camera_given);
+
+}  // namespace thicket::cli

@@ -1,0 +1,221 @@
+// `thicket bench`: every structure asked for (and Embree, when built with it) on the standard ray
+// sets of each scene, same rays, same timing loop, each answer checked against Embree-high.
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <thread>
+
+#include "bench_commands.h"
+#include "thicket/bench/bench_json.h"
+#include "thicket/bench/bench_tables.h"
+#include "thicket/bench/runner.h"
+#include "thicket/core/error.h"
+#include "thicket/util/atomic_file.h"
+#include "thicket/util/parallel.h"
+#include "thicket/util/progress.h"
+
+#if THICKET_HAVE_EMBREE
+#include "embree_tracer.h"
+#endif
+
+namespace thicket::cli {
+
+namespace {
+
+struct BenchArgs {
+    std::vector<std::string> scenes;
+    std::vector<std::string> accels;
+    std::string sets = "primary,shadow,diffuse,random";
+    std::string size = "320x240";
+    std::string camera;
+    int reps = 5;
+    int rounds = 1;
+    unsigned threads = 0;
+    double pass_budget_ms = 1000.0;
+    std::string json;
+    bool markdown = false;
+    bool no_embree = false;
+};
+
+// Every spec asked for, `all` expanded, duplicates dropped, each checked before any slow work.
+std::vector<TracerFactory> thicket_tracers(const std::vector<std::string>& accels) {
+    std::vector<std::string> specs;
+    for (const std::string& a : accels) {
+        if (a == "all") {
+            for (const std::string& v : all_accel_variants()) specs.push_back(v);
+        } else {
+            specs.push_back(a);
+        }
+    }
+    std::vector<TracerFactory> out;
+    std::vector<std::string> seen;
+    for (const std::string& s : specs) {
+        if (std::find(seen.begin(), seen.end(), s) != seen.end()) continue;
+        seen.push_back(s);
+        out.push_back(accel_tracer_factory(s));
+    }
+    return out;
+}
+
+// The 1-minute load average (Linux), or "" where unknown: other work on the machine is the first
+// thing to rule out when timings look noisy.
+std::string load_average() {
+    std::FILE* f = std::fopen("/proc/loadavg", "r");
+    if (!f) return "";
+    double one = 0.0;
+    const bool ok = std::fscanf(f, "%lf", &one) == 1;
+    std::fclose(f);
+    if (!ok) return "";
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.2f", one);
+    return buf;
+}
+
+void print_machine(const char* when) {
+    const std::string load = load_average();
+    std::printf("machine %u hardware threads; load average %s %s the run\n", resolve_threads(0),
+                load.empty() ? "unknown" : load.c_str(), when);
+}
+
+std::string scene_label(const std::string& path) {
+    const std::filesystem::path p(path);
+    return p.has_filename() && p.has_extension() ? p.filename().string() : path;
+}
+
+int run_bench(const BenchArgs& args) {
+    // Check every option before the slow work, so a typo costs nothing.
+    const std::vector<std::string> set_names = parse_ray_set_list(args.sets);
+    RaySetOptions ray_options;
+    parse_ray_set_size(args.size, ray_options);
+    if (!args.camera.empty()) ray_options.camera = parse_camera(args.camera);
+    if (args.reps < 1) throw Error("--reps must be at least 1 (5 or more for a trustworthy median)");
+    if (args.rounds < 1) throw Error("--rounds must be at least 1");
+    if (!(args.pass_budget_ms >= 0.0)) throw Error("--pass-budget must be a non-negative number of milliseconds");
+    std::vector<TracerFactory> tracers =
+        thicket_tracers(args.accels.empty() ? std::vector<std::string>{"bvh"} : args.accels);
+
+    std::string embree_note;
+#if THICKET_HAVE_EMBREE
+    if (args.no_embree) {
+        embree_note = "comparison off (--no-embree): no Embree rows, no ratios, no agreement";
+    } else {
+        tracers.insert(tracers.begin(), {embree_tracer_factory(EmbreeQuality::High),
+                                         embree_tracer_factory(EmbreeQuality::Medium)});
+        embree_note = "Embree " + embree_version() + " at build quality high (the reference) and medium";
+    }
+#else
+    embree_note = args.no_embree ? "comparison off (--no-embree): no Embree rows, no ratios, no agreement"
+                                 : "comparison off: this thicket was built without Embree (install libembree-dev "
+                                   "and rebuild); no Embree rows, no ratios, no agreement";
+#endif
+
+    BenchOptions options;
+    options.reps = args.reps;
+    options.threads = args.threads;
+    options.pass_budget_ms = args.pass_budget_ms;
+    const std::vector<unsigned> thread_counts = bench_thread_counts(args.threads);
+    print_machine("before");
+    std::printf("embree  %s\n", embree_note.c_str());
+    std::printf("bench   %zu tracers x %zu ray sets, %dx%d, median of %d timed passes after a warm-up%s, on %s\n",
+                tracers.size(), set_names.size(), ray_options.width, ray_options.height, args.reps,
+                args.rounds > 1 ? (", " + std::to_string(args.rounds) + " rounds").c_str() : "",
+                thread_counts.size() > 1 ? ("1 and " + std::to_string(thread_counts.back()) + " threads").c_str()
+                                         : "1 thread");
+    const bool with_embree = tracers.size() > 0 && tracers.front().name == kReferenceTracer;
+    std::printf("build   Thicket's builders are single-threaded: their one build is reported for every thread "
+                "count%s\n", with_embree ? "; Embree builds once per thread count" : "");
+    std::fflush(stdout);
+
+    std::vector<BenchRow> all_rows;
+    for (const std::string& path : args.scenes) {
+        const Scene scene = load_scene_verbose(path);
+        const std::unique_ptr<Accel> hits_from = build_accel(kRaySetHitSpec, scene);
+        const RaySetView view = ray_set_view(scene, *hits_from, ray_options);
+        print_view(view, !args.camera.empty());
+        const std::vector<RaySet> sets =
+            generate_ray_sets(scene, *hits_from, view, set_names, ray_options, args.threads);
+        std::string counts;
+        for (const RaySet& s : sets) {
+            if (!counts.empty()) counts += ", ";
+            counts += s.name + " " + std::to_string(s.rays.size());
+        }
+        std::printf("rays    %s\n", counts.c_str());
+        std::fflush(stdout);
+
+        const uint64_t steps = bench_steps(tracers.size(), sets.size(), options) * uint64_t(args.rounds);
+        Progress progress("bench " + scene_label(path), steps, "steps");
+        BenchCallbacks callbacks;
+        callbacks.advance = [&](uint64_t n) { progress.advance(n); };
+        std::vector<std::vector<BenchRow>> rounds;
+        try {
+            for (int r = 0; r < args.rounds; ++r)
+                rounds.push_back(bench_scene(scene, scene_label(path), tracers, sets, options, callbacks));
+        } catch (...) {
+            progress.abandon();
+            throw;
+        }
+        progress.finish();
+        const std::vector<BenchRow> rows = merge_bench_rounds(rounds);
+        const TableStyle style = args.markdown ? TableStyle::Markdown : TableStyle::Terminal;
+        std::printf("\n%s\n", format_bench_tables(rows, style).c_str());
+        std::fflush(stdout);
+        all_rows.insert(all_rows.end(), rows.begin(), rows.end());
+    }
+
+    std::printf("%s%s\n", args.markdown ? "- " : "", format_bench_noise(all_rows).c_str());
+    print_machine("after");
+    if (!args.json.empty()) {
+        write_file_atomically(args.json, bench_rows_json(all_rows));
+        std::printf("wrote   %s (%zu rows)\n", args.json.c_str(), all_rows.size());
+    }
+    return 0;
+}
+
+}  // namespace
+
+Command add_bench_command(CLI::App& app) {
+    auto args = std::make_shared<BenchArgs>();
+    CLI::App* cmd = app.add_subcommand(
+        "bench", "measure structures (and Embree) on standard ray sets of each SCENE: speed, build, memory, agreement");
+    cmd->footer(
+        "For every structure and ray set: Mrays/s on 1 thread and on all threads (median, slowest and fastest of "
+        "--reps timed passes after a warm-up), the ratio to embree-high on the same rays, nodes visited and "
+        "primitives tested per ray (a separate untimed pass), build time, memory, SAH cost, and agreement with "
+        "embree-high ray for ray. Ray sets are those of `thicket rays` (see its --help). A structure whose pass "
+        "over a set would take longer than --pass-budget on one thread is timed on every k-th ray (marked 1/k).\n"
+        "Timings are only as quiet as the machine: the load average is printed before and after the run.");
+    cmd->add_option("SCENE", args->scenes, scene_help())->required()->type_name("SCENE...");
+    cmd->add_option("-a,--accel", args->accels,
+                    "structure spec to measure (repeatable); `all` = every registered variant (`thicket accels`); "
+                    "default bvh")
+        ->type_name("SPEC");
+    cmd->add_option("--sets", args->sets, "comma-separated ray sets: primary, shadow, diffuse, random")
+        ->default_str("primary,shadow,diffuse,random")
+        ->type_name("LIST");
+    cmd->add_option("-s,--size", args->size, "image size of the primary set; random has WIDTH*HEIGHT rays")
+        ->default_str("320x240")
+        ->type_name("WxH");
+    cmd->add_option("-c,--camera", args->camera,
+                    "camera for every scene: position and target (and vertical fov in degrees, default 45); up is +y")
+        ->type_name("px,py,pz,tx,ty,tz[,fov]");
+    cmd->add_option("--reps", args->reps, "timed passes per figure, after one warm-up pass")
+        ->default_str("5")
+        ->type_name("N");
+    cmd->add_option("--rounds", args->rounds,
+                    "repeat each scene's whole measurement N times and report the median round, with the "
+                    "slowest and fastest round as the range: the honest spread on a shared machine")
+        ->default_str("1")
+        ->type_name("N");
+    add_threads_option(cmd, args->threads);
+    cmd->add_option("--pass-budget", args->pass_budget_ms,
+                    "milliseconds a single-thread pass may take; a slower structure is timed on every k-th ray, "
+                    "about a tenth of this per pass (0: never sample)")
+        ->default_str("1000")
+        ->type_name("MS");
+    cmd->add_option("--json", args->json, "also write every row as JSON to FILE")->type_name("FILE");
+    cmd->add_flag("--markdown", args->markdown, "print the tables as Markdown");
+    cmd->add_flag("--no-embree", args->no_embree, "leave Embree out (no ratios, no agreement)");
+    return {cmd, [args] { return run_bench(*args); }};
+}
+
+}  // namespace thicket::cli
