@@ -32,4 +32,13 @@ struct Aabb {
     }
 };
 
+/// The common part of two boxes (empty if they do not overlap).
+constexpr Aabb intersection(const Aabb& a, const Aabb& b) {
+    Aabb r;
+    r.min = thicket::max(a.min, b.min);
+    r.max = thicket::min(a.max, b.max);
+    if (r.empty()) return Aabb{};
+    return r;
+}
+
 }  // namespace thicket

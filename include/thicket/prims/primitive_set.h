@@ -7,6 +7,7 @@
 
 #include "thicket/core/aabb.h"
 #include "thicket/core/ray.h"
+#include "thicket/prims/clip.h"
 
 namespace thicket {
 
@@ -19,5 +20,25 @@ concept PrimitiveSet = requires(const P& p, uint32_t i, const Ray& r, Hit& h) {
     { p.intersect(i, r, h) } -> std::same_as<bool>;  // closest-hit update within [r.tmin, h.t]
     { p.occludes(i, r) } -> std::same_as<bool>;      // any hit within [r.tmin, r.tmax]
 };
+
+/// Optional hooks a primitive set may offer; structures call these free functions, which fall
+/// back to what every set has, so any PrimitiveSet works in every structure:
+///   Aabb clip(i, box)                 exact bounds of the part of primitive i inside box
+///   std::array<Vec3, 3> triangle(i)   the vertices, if every primitive of the set is a triangle
+
+/// Bounds of the part of primitive i inside `box` (space-partitioning builders: perfect splits).
+/// Falls back to bounds(i) intersected with box, which is conservative.
+template <PrimitiveSet P>
+Aabb clipped_bounds(const P& prims, uint32_t i, const Aabb& box) {
+    if constexpr (requires { { prims.clip(i, box) } -> std::same_as<Aabb>; })
+        return prims.clip(i, box);
+    else
+        return intersection(prims.bounds(i), box);
+}
+
+/// Whether the set is all triangles with vertices reachable by triangle(i) (BSP autopartition
+/// takes its planes from them; other sets fall back to axis-aligned planes from the bounds).
+template <class P>
+inline constexpr bool kHasTriangles = requires(const P& p, uint32_t i) { p.triangle(i); };
 
 }  // namespace thicket

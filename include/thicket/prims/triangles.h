@@ -1,12 +1,14 @@
 #pragma once
 /// The triangle primitive set: the fast path every structure is tuned for. Vertices are stored
 /// by value, three per triangle (36 bytes), so a leaf test touches one cache line per triangle.
+#include <array>
 #include <cstdint>
 #include <vector>
 
 #include "thicket/core/aabb.h"
 #include "thicket/core/ray_box.h"
 #include "thicket/core/triangle.h"
+#include "thicket/prims/clip.h"
 #include "thicket/scene/mesh.h"
 
 namespace thicket {
@@ -31,6 +33,13 @@ public:
 
     Aabb bounds(uint32_t i) const { return box_of(tris_[i]); }
     Vec3 centroid(uint32_t i) const { return (tris_[i].v0 + tris_[i].v1 + tris_[i].v2) * (1.0f / 3.0f); }
+
+    /// The vertices of triangle i (BSP planes, fragments).
+    std::array<Vec3, 3> triangle(uint32_t i) const { return {tris_[i].v0, tris_[i].v1, tris_[i].v2}; }
+    /// Exact bounds of the part of triangle i inside `box` (perfect splits).
+    Aabb clip(uint32_t i, const Aabb& box) const {
+        return clip_triangle_to_box(tris_[i].v0, tris_[i].v1, tris_[i].v2, box);
+    }
 
     /// Closest-hit update: if primitive i is hit within [ray.tmin, hit.t], overwrite hit.
     bool intersect(uint32_t i, const Ray& ray, Hit& hit) const {
