@@ -1,0 +1,99 @@
+// Figures and structural checks of a built BIH. Node boxes are implicit: the root's box is the
+// scene's bounds, a child's the parent's clipped by the child's plane on the split axis.
+#include <algorithm>
+#include <string>
+
+#include "thicket/accel/accel.h"
+#include "thicket/bih/build.h"
+#include "thicket/core/error.h"
+
+namespace thicket {
+
+BihFigures bih_figures(const BihData& bih) {
+    BihFigures f;
+    if (bih.nodes.empty()) return f;
+    const float root_area = bih.bounds.half_area();
+    struct Item {
+        uint32_t node;
+        size_t depth;
+        Aabb box;
+    };
+    std::vector<Item> stack{{0, 0, bih.bounds}};
+    while (!stack.empty()) {
+        const Item item = stack.back();
+        stack.pop_back();
+        const BihNode& node = bih.nodes[item.node];
+        // A degenerate (flat) scene weighs every node equally, as the BVH's figures do.
+        const double rel = root_area > 0.0f ? double(item.box.half_area()) / root_area : 1.0;
+        ++f.nodes;
+        f.max_depth = std::max(f.max_depth, item.depth);
+        if (node.is_leaf()) {
+            ++f.leaves;
+            f.empty_leaves += node.count() == 0;
+            f.max_leaf_size = std::max<size_t>(f.max_leaf_size, node.count());
+            f.sah_cost += rel * kSahIntersectionCost * node.count();
+            continue;
+        }
+        f.sah_cost += rel * kSahTraversalCost;
+        const int a = node.axis();
+        Item left{node.index(), item.depth + 1, item.box}, right{node.index() + 1, item.depth + 1, item.box};
+        left.box.max[a] = std::min(left.box.max[a], node.left_max());
+        right.box.min[a] = std::max(right.box.min[a], node.right_min());
+        // An empty child's plane lies beyond the box: its box is empty (area 0).
+        if (left.box.empty()) left.box = Aabb{};
+        if (right.box.empty()) right.box = Aabb{};
+        stack.push_back(right);
+        stack.push_back(left);
+    }
+    return f;
+}
+
+void validate_bih(const BihData& bih, size_t primitive_count) {
+    const size_t n = primitive_count;
+    if (bih.prim_indices.size() != n)
+        throw Error("invalid BIH: " + std::to_string(bih.prim_indices.size()) + " primitive indices for " +
+                    std::to_string(n) + " primitives");
+    if (n == 0) {
+        if (!bih.nodes.empty()) throw Error("invalid BIH: nodes in a BIH over no primitives");
+        return;
+    }
+    if (bih.nodes.empty() || bih.nodes.size() > 4 * n + 1 || bih.nodes.size() > kBihMaxIndex)
+        throw Error("invalid BIH: " + std::to_string(bih.nodes.size()) + " nodes for " + std::to_string(n) +
+                    " primitives");
+    std::vector<uint8_t> referenced(n, 0);
+    for (uint32_t idx : bih.prim_indices) {
+        if (idx >= n || referenced[idx]) throw Error("invalid BIH: primitive index array is not a permutation");
+        referenced[idx] = 1;
+    }
+    struct Item {
+        uint32_t node, depth;
+    };
+    std::vector<Item> stack{{0, 0}};
+    std::vector<uint8_t> node_seen(bih.nodes.size(), 0), entry_seen(n, 0);
+    size_t covered = 0;
+    while (!stack.empty()) {
+        const auto [i, depth] = stack.back();
+        stack.pop_back();
+        const BihNode& node = bih.nodes[i];
+        if (depth > kBihMaxDepth) throw Error("invalid BIH: deeper than " + std::to_string(kBihMaxDepth));
+        if (node_seen[i]++) throw Error("invalid BIH: node " + std::to_string(i) + " has two parents");
+        if (node.is_leaf()) {
+            if (uint64_t(node.index()) + node.count() > n)
+                throw Error("invalid BIH: leaf " + std::to_string(i) + " references primitives out of range");
+            for (uint32_t e = node.index(); e < node.index() + node.count(); ++e)
+                if (entry_seen[e]++) throw Error("invalid BIH: leaves overlap at primitive entry " + std::to_string(e));
+            covered += node.count();
+            continue;
+        }
+        // Children always come after their parent: this rules out cycles.
+        if (node.index() <= i || uint64_t(node.index()) + 1 >= bih.nodes.size())
+            throw Error("invalid BIH: node " + std::to_string(i) + " has children out of range");
+        stack.push_back({node.index(), depth + 1});
+        stack.push_back({node.index() + 1, depth + 1});
+    }
+    if (covered != n)
+        throw Error("invalid BIH: leaves reference " + std::to_string(covered) + " of " + std::to_string(n) +
+                    " primitives");
+}
+
+}  // namespace thicket

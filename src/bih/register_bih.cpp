@@ -1,0 +1,44 @@
+#include "thicket/accel/dispatch.h"
+#include "thicket/bih/bih.h"
+
+namespace thicket {
+
+namespace {
+
+BihBuildOptions build_options(const AccelSpec& spec) {
+    BihBuildOptions o;
+    o.max_leaf = int(spec.get_int("max-leaf"));
+    o.empty_side = spec.get("empty") == "refine" ? BihEmptySide::Refine : BihEmptySide::Cut;
+    return o;
+}
+
+}  // namespace
+
+void register_bih(std::vector<AccelInfo>& registry) {
+    AccelInfo info;
+    info.name = "bih";
+    info.summary = "bounding interval hierarchy (Waechter & Keller 2006): 12-byte nodes with two clip planes, "
+                   "global-heuristic build";
+    info.options = {
+        {"max-leaf", "a range of at most this many primitives becomes a leaf", "4", {}, 1, 255},
+        {"empty",
+         "when every object falls on one side of the candidate plane: refine (halve the candidate box, make no "
+         "node) or cut (also make a node with an empty child when that cuts off a quarter of the node's extent)",
+         "cut", {"cut", "refine"}, 0, 0},
+    };
+    info.variants = {"bih", "bih:empty=refine", "bih:max-leaf=1", "bih:isect=watertight"};
+    info.build = [](const Scene& scene, const AccelSpec& spec) {
+        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
+            return std::make_unique<Bih<decltype(prims)>>(std::move(prims), build_options(spec));
+        });
+    };
+    info.load = [](std::istream& in, const Scene& scene, const AccelSpec& spec) {
+        BihData data = read_bih(in, scene.primitive_count());
+        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
+            return std::make_unique<Bih<decltype(prims)>>(std::move(prims), std::move(data));
+        });
+    };
+    registry.push_back(std::move(info));
+}
+
+}  // namespace thicket

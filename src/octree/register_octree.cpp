@@ -1,0 +1,34 @@
+#include "thicket/accel/dispatch.h"
+#include "thicket/octree/octree.h"
+
+namespace thicket {
+
+void register_octree(std::vector<AccelInfo>& registry) {
+    AccelInfo info;
+    info.name = "octree";
+    info.summary = "adaptive octree (Glassner 1984): cubic cells split in eight, parametric (Revelles et al. 2000) "
+                   "or restart traversal";
+    info.options = {
+        {"leaf-size", "a cell holding more primitives is split into its eight octants", "8", {}, 1, 255},
+        {"max-depth", "deepest level (the root is level 0)", "10", {}, 0, long(kOctreeMaxDepth)},
+        {"traversal",
+         "parametric (Revelles, Urena & Lastra 2000: plane distances, first-node and next-node rules) or restart "
+         "(the lecture: locate the leaf at the current distance from the root, test it, continue at its exit)",
+         "parametric", {"parametric", "restart"}, 0, 0},
+    };
+    info.variants = {"octree", "octree:traversal=restart", "octree:leaf-size=1,max-depth=12",
+                     "octree:traversal=restart,leaf-size=2,isect=watertight"};
+    info.build = [](const Scene& scene, const AccelSpec& spec) {
+        OctreeBuildOptions o;
+        o.leaf_size = int(spec.get_int("leaf-size"));
+        o.max_depth = int(spec.get_int("max-depth"));
+        const OctreeTraversal t =
+            spec.get("traversal") == "restart" ? OctreeTraversal::Restart : OctreeTraversal::Parametric;
+        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
+            return std::make_unique<Octree<decltype(prims)>>(std::move(prims), o, t);
+        });
+    };
+    registry.push_back(std::move(info));
+}
+
+}  // namespace thicket
