@@ -16,8 +16,8 @@ void register_octree(std::vector<AccelInfo>& registry) {
          "(the lecture: locate the leaf at the current distance from the root, test it, continue at its exit)",
          "parametric", {"parametric", "restart"}, 0, 0},
     };
-    info.variants = {"octree", "octree:traversal=restart", "octree:leaf-size=1,max-depth=12",
-                     "octree:traversal=restart,leaf-size=2,isect=watertight"};
+    info.variants = {"octree", "octree:traversal=restart", "octree:leaf-size=2,max-depth=16",
+                     "octree:traversal=restart,leaf-size=1,max-depth=4,isect=watertight"};
     info.build = [](const Scene& scene, const AccelSpec& spec) {
         OctreeBuildOptions o;
         o.leaf_size = int(spec.get_int("leaf-size"));

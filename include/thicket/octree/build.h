@@ -26,7 +26,7 @@ using OctreeClip = std::function<Aabb(uint32_t, const Aabb&)>;
 OctreeData build_octree(std::span<const Aabb> bounds, const OctreeClip& clip, const OctreeBuildOptions& options);
 
 /// References per primitive (plus a fixed allowance for tiny scenes) past which no cell is split.
-inline constexpr size_t kOctreeReferenceBudget = 16;
+inline constexpr size_t kOctreeReferenceBudget = 8;
 
 /// Figures of a built octree. sah_cost weighs every cell by its area relative to the root's,
 /// with kSahTraversalCost per inner cell and kSahIntersectionCost per reference in a leaf.
