@@ -1,6 +1,7 @@
 // Adaptive octree construction (Glassner 1984), breadth first: one level of cells at a time,
 // each cell's references held with the exact bounds of the primitive's part inside the cell, so
 // a primitive is clipped again only where it straddles the cell's mid-planes.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <string>
@@ -149,6 +150,9 @@ OctreeData build_octree(std::span<const Aabb> bounds, const OctreeClip& clip, co
     while (!level.empty()) {
         std::vector<Cell> next;
         std::vector<Ref> next_refs;
+        // Crowded cells first: if the reference budget runs out during this level, it has been
+        // spent where splitting separates most, not on whichever octants come first.
+        std::stable_sort(level.begin(), level.end(), [](const Cell& a, const Cell& b) { return a.count > b.count; });
         for (const Cell& cell : level) {
             const std::span<const Ref> mine(refs.data() + cell.first, cell.count);
             bool leaf = cell.count <= size_t(options.leaf_size) || cell.depth >= uint32_t(options.max_depth) ||
