@@ -13,6 +13,7 @@ void register_brute(std::vector<AccelInfo>& registry);
 void register_bvh(std::vector<AccelInfo>& registry);
 void register_octree(std::vector<AccelInfo>& registry);
 void register_bih(std::vector<AccelInfo>& registry);
+void register_kdtree(std::vector<AccelInfo>& registry);
 
 namespace {
 
@@ -32,6 +33,7 @@ std::vector<AccelInfo> make_registry() {
     register_bvh(r);
     register_octree(r);
     register_bih(r);
+    register_kdtree(r);
     for (AccelInfo& info : r) info.options.push_back(triangle_test_option());
     return r;
 }

@@ -1,0 +1,52 @@
+#include "thicket/accel/dispatch.h"
+#include "thicket/kdtree/kdtree.h"
+
+namespace thicket {
+
+namespace {
+
+KdBuildOptions build_options(const AccelSpec& spec) {
+    KdBuildOptions o;
+    o.builder = spec.get("builder") == "median" ? KdBuilder::Median : KdBuilder::Sah;
+    return o;
+}
+
+KdTraversal traversal_option(const AccelSpec& spec) {
+    return spec.get("traversal") == "restart" ? KdTraversal::Restart : KdTraversal::Stack;
+}
+
+}  // namespace
+
+void register_kdtree(std::vector<AccelInfo>& registry) {
+    AccelInfo info;
+    info.name = "kdtree";
+    info.summary = "SAH kD-tree (Wald & Havran 2006, O(N log N), perfect splits): 8-byte nodes, mailboxing";
+    info.options = {
+        {"builder",
+         "sah: events sorted once, SAH sweep (K_T = 1, K_I = 1.5, empty-space bonus 0.8), perfect splits, "
+         "O(N log N); median: middle of the voxel's longest axis, the same SAH decides when to stop",
+         "sah", {"sah", "median"}, 0, 0},
+        {"traversal",
+         "stack: near/far with a stack (Havran's TA_rec_B); restart: kd-restart, no stack (Foley & Sugerman 2005)",
+         "stack", {"stack", "restart"}, 0, 0},
+    };
+    info.variants = {"kdtree:builder=sah,traversal=stack", "kdtree:builder=sah,traversal=restart",
+                     "kdtree:builder=median,traversal=stack", "kdtree:builder=sah,traversal=stack,isect=watertight"};
+
+    info.build = [](const Scene& scene, const AccelSpec& spec) {
+        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
+            return std::make_unique<KdTree<decltype(prims)>>(std::move(prims), build_options(spec),
+                                                             traversal_option(spec));
+        });
+    };
+    info.load = [](std::istream& in, const Scene& scene, const AccelSpec& spec) {
+        KdTreeData data = read_kdtree(in, scene.primitive_count());
+        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
+            return std::make_unique<KdTree<decltype(prims)>>(std::move(prims), std::move(data), build_options(spec),
+                                                             traversal_option(spec));
+        });
+    };
+    registry.push_back(std::move(info));
+}
+
+}  // namespace thicket
