@@ -11,6 +11,8 @@ namespace thicket {
 
 void register_brute(std::vector<AccelInfo>& registry);
 void register_bvh(std::vector<AccelInfo>& registry);
+void register_grid(std::vector<AccelInfo>& registry);
+void register_grid2(std::vector<AccelInfo>& registry);
 
 namespace {
 
@@ -28,6 +30,8 @@ std::vector<AccelInfo> make_registry() {
     std::vector<AccelInfo> r;
     register_brute(r);
     register_bvh(r);
+    register_grid(r);
+    register_grid2(r);
     for (AccelInfo& info : r) info.options.push_back(triangle_test_option());
     return r;
 }
