@@ -51,23 +51,28 @@ struct Dda {
         index = f.index(cell[0], cell[1], cell[2]);
     }
 
-    /// The axis whose plane the ray crosses first; next[exit_axis()] is the current cell's exit.
-    [[gnu::always_inline]] int exit_axis() const {
-        return next[0] < next[1] ? (next[0] < next[2] ? 0 : 2) : (next[1] < next[2] ? 1 : 2);
-    }
-
-    /// Moves to the neighbour across axis a; false when that leaves the frame (or the ray does
-    /// not move along a: then every crossing is +inf and the walk is over).
-    [[gnu::always_inline]] bool advance(const GridFrame& f, const DdaRay& r, int a) {
-        const uint32_t c = cell[a] + uint32_t(r.step[a]);  // wraps below 0: caught by the test
-        if (c >= f.res[a] || r.step[a] == 0) return false;
-        cell[a] = c;
-        index += r.step[a] > 0 ? f.stride[a] : 0u - f.stride[a];
-        next[a] = crossing(r, a);
-        return true;
+    /// Leaves the current cell for the next one, unless the walk is over: when the current
+    /// cell's exit distance is not below `far` (the nearest hit so far, or the ray's tmax: what
+    /// lies beyond cannot matter) or the next cell is outside the frame. Returns whether it moved.
+    /// The axis choice is spelled out per axis so that next[] stays in registers.
+    [[gnu::always_inline]] bool step(const GridFrame& f, const DdaRay& r, float far) {
+        if (next[0] < next[1]) return next[0] < next[2] ? advance<0>(f, r, far) : advance<2>(f, r, far);
+        return next[1] < next[2] ? advance<1>(f, r, far) : advance<2>(f, r, far);
     }
 
 private:
+    /// Moves across axis A's exit plane (see step()).
+    template <int A>
+    [[gnu::always_inline]] bool advance(const GridFrame& f, const DdaRay& r, float far) {
+        if (!(next[A] < far)) return false;                // also false for NaN and for inf == inf
+        const uint32_t c = cell[A] + uint32_t(r.step[A]);  // wraps below 0: caught by the test
+        if (c >= f.res[A] || r.step[A] == 0) return false;
+        cell[A] = c;
+        index += r.step[A] > 0 ? f.stride[A] : 0u - f.stride[A];
+        next[A] = crossing(r, A);
+        return true;
+    }
+
     float crossing(const DdaRay& r, int a) const { return base[a] + float(cell[a] + r.up[a]) * delta[a]; }
 };
 

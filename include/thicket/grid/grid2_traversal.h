@@ -1,8 +1,8 @@
 #pragma once
 /// Two-level grid traversal: a DDA over the top level; in each non-empty top cell a second DDA
 /// over its sub-grid, started where the ray enters that top cell. The hit-inside-cell rule holds
-/// at the leaf level: once the nearest hit lies within the current leaf cell's exit distance,
-/// the whole walk ends.
+/// at both levels: once the nearest hit lies within the current leaf cell's exit distance, the
+/// leaf walk ends, and with it the top walk.
 #include <algorithm>
 
 #include "thicket/core/ray_box.h"
@@ -38,15 +38,15 @@ bool grid2_walk(const Grid2Data& g, const Prims& prims, const Ray& ray, Hit& hit
                 if (grid_detail::visit_cell<AnyHit>(refs + start[l], refs + start[l + 1], prims, ray, hit, mailbox,
                                                     counters))
                     return true;
-                const int a = leaf.exit_axis();
-                if (!(leaf.next[a] < (AnyHit ? ray.tmax : hit.t))) return false;
-                if (!leaf.advance(sub, r, a)) break;
+                if (!leaf.step(sub, r, AnyHit ? ray.tmax : hit.t)) break;
             }
         }
-        const int a = top.exit_axis();
-        if (!(top.next[a] < (AnyHit ? ray.tmax : hit.t))) return false;
-        t_enter = std::max(t0, top.next[a]);
-        if (!top.advance(g.frame, r, a)) return false;
+        // The leaf walk ended by leaving the sub-grid, or because the nearest hit lies within its
+        // current cell, hence within this top cell: then the top step stops too (were rounding to
+        // put the hit a hair beyond this cell's exit, one more cell would be walked, harmlessly).
+        // The next top cell's walk starts where this one ends.
+        t_enter = std::max(t0, std::min({top.next[0], top.next[1], top.next[2]}));
+        if (!top.step(g.frame, r, AnyHit ? ray.tmax : hit.t)) return false;
     }
 }
 

@@ -28,9 +28,7 @@ bool grid_walk(const GridData& g, const Prims& prims, const Ray& ray, Hit& hit, 
                                             mailbox, counters))
             return true;
         // Stop when the nearest hit (or the end of the ray) lies within this cell: not past its exit.
-        const int a = dda.exit_axis();
-        if (!(dda.next[a] < (AnyHit ? ray.tmax : hit.t))) return false;
-        if (!dda.advance(g.frame, r, a)) return false;
+        if (!dda.step(g.frame, r, AnyHit ? ray.tmax : hit.t)) return false;
     }
 }
 
