@@ -14,6 +14,8 @@ void register_bvh(std::vector<AccelInfo>& registry);
 void register_octree(std::vector<AccelInfo>& registry);
 void register_bih(std::vector<AccelInfo>& registry);
 void register_kdtree(std::vector<AccelInfo>& registry);
+void register_grid(std::vector<AccelInfo>& registry);
+void register_grid2(std::vector<AccelInfo>& registry);
 
 namespace {
 
@@ -34,6 +36,8 @@ std::vector<AccelInfo> make_registry() {
     register_octree(r);
     register_bih(r);
     register_kdtree(r);
+    register_grid(r);
+    register_grid2(r);
     for (AccelInfo& info : r) info.options.push_back(triangle_test_option());
     return r;
 }

@@ -1,0 +1,60 @@
+#pragma once
+/// Building the uniform grid: resolution from the density rule (or an explicit count), then the
+/// compact cell lists by counting, prefix sum and fill.
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "thicket/core/error.h"
+#include "thicket/grid/assign.h"
+#include "thicket/grid/cells.h"
+#include "thicket/grid/frame.h"
+#include "thicket/grid/resolution.h"
+
+namespace thicket {
+
+struct GridOptions {
+    double lambda = 5.0;      ///< cells per primitive for the automatic resolution
+    uint32_t res = 0;         ///< cells along the longest axis; 0: automatic (lambda)
+    bool mailbox = true;      ///< per-ray mailbox: test each primitive once per ray
+    GridAssign assign = GridAssign::Clip;
+};
+
+struct GridData {
+    Aabb box;           ///< bounds of every primitive (empty for an empty scene)
+    GridFrame frame;
+    CellLists lists;    ///< empty for an empty scene
+};
+
+/// Bounds of all primitives; throws when there are too many for 31-bit ids.
+template <PrimitiveSet P>
+Aabb grid_scene_bounds(const P& prims, const char* who) {
+    if (prims.size() > kPrimMask)
+        throw Error(std::string(who) + ": " + std::to_string(prims.size()) + " primitives; at most " +
+                    std::to_string(kPrimMask) + " are supported");
+    Aabb box;
+    for (uint32_t i = 0; i < prims.size(); ++i) box.grow(prims.bounds(i));
+    return box;
+}
+
+template <PrimitiveSet P>
+GridData build_grid(const P& prims, const GridOptions& o) {
+    GridData g;
+    g.box = grid_scene_bounds(prims, "grid");
+    if (prims.size() == 0) return g;
+    const GridResolution res =
+        o.res ? longest_axis_resolution(g.box.extent(), o.res, "grid: res=" + std::to_string(o.res))
+              : density_resolution(g.box.extent(), o.lambda * double(prims.size()), uint32_t(kMaxGridCells),
+                                   kMaxGridCells);
+    g.frame = GridFrame::make(g.box, res);
+    std::vector<uint32_t> ids(prims.size());
+    std::iota(ids.begin(), ids.end(), 0u);
+    AssignScratch scratch;
+    g.lists.start.reserve(size_t(g.frame.cells()) + 1);
+    append_cell_lists(prims, std::span<const uint32_t>(ids), g.frame, o.assign, g.lists, scratch);
+    g.lists.start.push_back(uint32_t(g.lists.refs.size()));
+    mark_single_cell_references(g.lists.refs, prims.size());
+    return g;
+}
+
+}  // namespace thicket

@@ -1,0 +1,35 @@
+#pragma once
+/// Uniform grid traversal: the slab test finds where the ray enters the grid's box, the DDA walks
+/// the cells from there. A hit found in a cell may lie beyond that cell (its primitive reaches
+/// into later cells); it is kept, and the walk stops only once the nearest hit lies within the
+/// current cell's exit distance, as nothing in later cells can be nearer.
+#include "thicket/core/ray_box.h"
+#include "thicket/grid/dda.h"
+#include "thicket/grid/grid_build.h"
+#include "thicket/grid/visit.h"
+
+namespace thicket {
+
+/// Closest hit (AnyHit = false: updates `hit`) or any hit (AnyHit = true: returns whether the
+/// ray is blocked within [tmin, tmax]); MB is RayMailbox or NoMailbox.
+template <bool AnyHit, class MB, PrimitiveSet Prims, class C>
+bool grid_walk(const GridData& g, const Prims& prims, const Ray& ray, Hit& hit, C& counters) {
+    if (g.lists.refs.empty()) return false;
+    const float t0 = ray_box_entry(RayBoxQuery(ray), g.frame.min, g.frame.max, ray.tmin, ray.tmax);
+    if (t0 == kInfinity) return false;
+    const DdaRay r(ray);
+    Dda dda(g.frame, r, t0);
+    MB mailbox;
+    const uint32_t* start = g.lists.start.data();
+    const uint32_t* refs = g.lists.refs.data();
+    while (true) {
+        counters.node();
+        if (grid_detail::visit_cell<AnyHit>(refs + start[dda.index], refs + start[dda.index + 1], prims, ray, hit,
+                                            mailbox, counters))
+            return true;
+        // Stop when the nearest hit (or the end of the ray) lies within this cell: not past its exit.
+        if (!dda.step(g.frame, r, AnyHit ? ray.tmax : hit.t)) return false;
+    }
+}
+
+}  // namespace thicket

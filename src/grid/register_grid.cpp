@@ -1,0 +1,92 @@
+// Registration of the uniform grid and the two-level grid: spec options and tested variants.
+#include "thicket/accel/dispatch.h"
+#include "thicket/grid/grid.h"
+#include "thicket/grid/grid2.h"
+
+namespace thicket {
+
+namespace {
+
+OptionInfo mailbox_option() {
+    return {"mailbox",
+            "per-ray mailbox: each primitive is tested once per ray even when several cells reference it "
+            "(off: re-tested in every cell, to show the effect)",
+            "on", {"on", "off"}, 0, 0};
+}
+
+OptionInfo assign_option() {
+    return {"assign",
+            "which cells a primitive goes into: those its exact clipped part overlaps (triangles; other "
+            "primitives use their bounds), or every cell its bounding box overlaps",
+            "clip", {"clip", "bounds"}, 0, 0};
+}
+
+GridAssign assign_of(const AccelSpec& spec) {
+    return spec.get("assign") == "bounds" ? GridAssign::Bounds : GridAssign::Clip;
+}
+
+}  // namespace
+
+void register_grid(std::vector<AccelInfo>& registry) {
+    AccelInfo info;
+    info.name = "grid";
+    info.summary = "uniform grid with 3D-DDA (Amanatides & Woo 1987), lambda*N cells, compact cell lists";
+    info.options = {
+        {"lambda", "cells per primitive for the automatic resolution: lambda*N cells shaped like the scene's box",
+         "5", {}, 1, 64},
+        {"res", "cells along the longest axis (others proportional); 0: automatic from lambda", "0", {}, 0, 4096},
+        mailbox_option(),
+        assign_option(),
+    };
+    info.variants = {
+        "grid",
+        "grid:assign=bounds",
+        "grid:lambda=1",
+        "grid:lambda=16",
+        "grid:res=48",
+        "grid:isect=watertight",
+    };
+    info.build = [](const Scene& scene, const AccelSpec& spec) {
+        GridOptions o;
+        o.lambda = double(spec.get_int("lambda"));
+        o.res = uint32_t(spec.get_int("res"));
+        o.mailbox = spec.get("mailbox") == "on";
+        o.assign = assign_of(spec);
+        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
+            return std::make_unique<Grid<decltype(prims)>>(std::move(prims), o);
+        });
+    };
+    registry.push_back(std::move(info));
+}
+
+void register_grid2(std::vector<AccelInfo>& registry) {
+    AccelInfo info;
+    info.name = "grid2";
+    info.summary = "two-level grid (Kalojanov, Billeter & Slusallek 2011): a sub-grid in every non-empty top cell";
+    info.options = {
+        {"top", "top-level density in sixteenths of a cell per primitive (4: N/4 top cells)", "4", {}, 1, 1024},
+        {"leaf", "sub-grid density in sixteenths of a cell per primitive of its top cell (20: 1.25 cells each)", "20",
+         {}, 1, 1024},
+        mailbox_option(),
+        assign_option(),
+    };
+    info.variants = {
+        "grid2",
+        "grid2:assign=bounds",
+        "grid2:top=1,leaf=80",
+        "grid2:isect=watertight",
+    };
+    info.build = [](const Scene& scene, const AccelSpec& spec) {
+        Grid2Options o;
+        o.top_density = double(spec.get_int("top")) / 16.0;
+        o.leaf_density = double(spec.get_int("leaf")) / 16.0;
+        o.mailbox = spec.get("mailbox") == "on";
+        o.assign = assign_of(spec);
+        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
+            return std::make_unique<TwoLevelGrid<decltype(prims)>>(std::move(prims), o);
+        });
+    };
+    registry.push_back(std::move(info));
+}
+
+}  // namespace thicket
