@@ -11,6 +11,7 @@ namespace thicket {
 
 void register_brute(std::vector<AccelInfo>& registry);
 void register_bvh(std::vector<AccelInfo>& registry);
+void register_bsp(std::vector<AccelInfo>& registry);
 
 namespace {
 
@@ -28,6 +29,7 @@ std::vector<AccelInfo> make_registry() {
     std::vector<AccelInfo> r;
     register_brute(r);
     register_bvh(r);
+    register_bsp(r);
     for (AccelInfo& info : r) info.options.push_back(triangle_test_option());
     return r;
 }
