@@ -4,6 +4,7 @@
 #include "thicket/bsp/build.h"
 
 #include <algorithm>
+#include <utility>
 #include <cmath>
 #include <string>
 
@@ -71,6 +72,7 @@ private:
         double cost;
         uint64_t total;   ///< estimated fragments after the split
         double largest;   ///< estimated share of the node's fragments on the fuller side
+        uint32_t order;   ///< position among the node's proposals
     };
 
     /// The fragments candidates are scored on (all of a small node's, an evenly spaced sample
@@ -83,13 +85,15 @@ private:
         size_t size() const { return index.size(); }
     };
 
-    Sample take_sample(const Set& set) const {
+    /// Fills the scratch sample for `set` (the scratch keeps its capacity from node to node).
+    Sample& take_sample(const Set& set) const {
         const size_t n = set.size(), m = std::min(n, kScoreSample);
-        Sample s;
+        Sample& s = sample_;
         s.index.resize(m);
         s.start.assign(m + 1, 0);
         s.boxes.resize(m);
-        std::vector<P3> points;
+        std::vector<P3>& points = points_;
+        points.clear();
         for (size_t i = 0; i < m; ++i) {
             s.index[i] = uint32_t(i * n / m);
             const size_t first = points.size();
@@ -186,7 +190,7 @@ private:
                 cost = std::fabs(double(front) - double(back)) + kBalanceSplitWeight * double(ns);
             }
             ranked.push_back({p, cost, uint64_t(n) + uint64_t(double(ns) * double(n) / double(m)),
-                              double(std::max(back, front)) / double(m)});
+                              double(std::max(back, front)) / double(m), uint32_t(ranked.size())});
         }
     }
 
@@ -195,16 +199,19 @@ private:
     /// them still leaves more than kFallbackShare of the fragments on one side (autopartition
     /// peels curved surfaces one tangent plane at a time), axis-aligned median planes as well.
     std::vector<Candidate> rank(const Set& set, const Aabb& cell) const {
-        Sample sample = take_sample(set);
+        Sample& sample = take_sample(set);
         std::vector<Candidate> ranked;
         score(set, cell, sample, propose(set, cell, sample, Source::Own), ranked);
         if (ranked.empty()) score(set, cell, sample, propose(set, cell, sample, Source::Edges), ranked);
-        auto better = [](const Candidate& a, const Candidate& b) { return a.cost < b.cost; };
-        std::stable_sort(ranked.begin(), ranked.end(), better);
+        // Ties keep proposal order, so the tree does not depend on the library's sort.
+        auto better = [](const Candidate& a, const Candidate& b) {
+            return a.cost < b.cost || (a.cost == b.cost && a.order < b.order);
+        };
+        std::sort(ranked.begin(), ranked.end(), better);
         if (options_.axis_fallback && set.size() > size_t(4 * options_.max_leaf) &&
             (ranked.empty() || ranked.front().largest > kFallbackShare)) {
             score(set, cell, sample, propose(set, cell, sample, Source::Axis), ranked);
-            std::stable_sort(ranked.begin(), ranked.end(), better);
+            std::sort(ranked.begin(), ranked.end(), better);
         }
         return ranked;
     }
@@ -227,6 +234,8 @@ private:
             }
             ++tries;
             Set back, front;
+            back.frags.reserve(n / 2 + 8);
+            front.frags.reserve(n / 2 + 8);
             uint64_t splits = 0, dropped = 0, in_plane = 0;
             for (size_t i = 0; i < n; ++i) {
                 const Placement where = frags_.place(set, i, c.plane);
@@ -307,6 +316,8 @@ private:
     std::vector<BspFragment>* keep_;
     std::vector<uint32_t> pieces_;  ///< fragments per primitive in leaves
     float scale_;                   ///< the scene's largest coordinate magnitude
+    mutable Sample sample_;         ///< scratch of rank(), reused from node to node
+    mutable std::vector<P3> points_;
 };
 
 template <class Frags>
