@@ -16,6 +16,7 @@ void register_bih(std::vector<AccelInfo>& registry);
 void register_kdtree(std::vector<AccelInfo>& registry);
 void register_grid(std::vector<AccelInfo>& registry);
 void register_grid2(std::vector<AccelInfo>& registry);
+void register_bsp(std::vector<AccelInfo>& registry);
 
 namespace {
 
@@ -38,6 +39,7 @@ std::vector<AccelInfo> make_registry() {
     register_kdtree(r);
     register_grid(r);
     register_grid2(r);
+    register_bsp(r);
     for (AccelInfo& info : r) info.options.push_back(triangle_test_option());
     return r;
 }

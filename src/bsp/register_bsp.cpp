@@ -1,0 +1,60 @@
+#include "thicket/accel/dispatch.h"
+#include "thicket/bsp/bsp.h"
+
+namespace thicket {
+
+namespace {
+
+BspBuildOptions build_options(const AccelSpec& spec) {
+    BspBuildOptions o;
+    o.cost = spec.get("cost") == "balance" ? BspCost::Balance : BspCost::Sah;
+    o.candidates = int(spec.get_int("candidates"));
+    o.max_leaf = int(spec.get_int("max-leaf"));
+    o.max_depth = int(spec.get_int("max-depth"));
+    o.fragment_budget = int(spec.get_int("fragment-budget"));
+    o.axis_fallback = spec.get("fallback") == "axis";
+    return o;
+}
+
+}  // namespace
+
+void register_bsp(std::vector<AccelInfo>& registry) {
+    AccelInfo info;
+    info.name = "bsp";
+    info.summary = "BSP tree by autopartition: planes of the scene's own triangles, straddlers cut into fragments";
+    const BspBuildOptions d;
+    info.options = {
+        {"cost",
+         "plane choice among the candidates: sah (fragments x area of each side's cell box cut to its "
+         "fragments' bounds) or balance (|front - back| + 8 x straddling)",
+         "sah", {"sah", "balance"}, 0, 0},
+        {"candidates", "triangles whose planes are tried per node (evenly spaced over the node's fragments)",
+         std::to_string(d.candidates), {}, 1, 64},
+        {"max-leaf", "nodes with more fragments are split while some candidate plane separates them",
+         std::to_string(d.max_leaf), {}, 1, 64},
+        {"max-depth", "deeper nodes become leaves", std::to_string(d.max_depth), {}, 1, long(kBspMaxDepth)},
+        {"fallback",
+         "axis: where the node's own planes only peel (the best leaves > 7/8 of the fragments on one side, as on "
+         "curved surfaces), also try axis-aligned median planes; none: own planes only (pure autopartition)",
+         "axis", {"axis", "none"}, 0, 0},
+        {"fragment-budget",
+         "at most this many fragments per primitive in the whole tree (1: no triangle is ever cut); a split "
+         "that would exceed its share makes a leaf",
+         std::to_string(d.fragment_budget), {}, 1, 64},
+    };
+    // Every option value that changes a code path, combined so the family stays quick.
+    info.variants = {
+        "bsp",
+        "bsp:cost=balance,fallback=none",
+        "bsp:isect=watertight,max-leaf=1,candidates=4",
+        "bsp:fragment-budget=2,max-depth=16",
+    };
+    info.build = [](const Scene& scene, const AccelSpec& spec) {
+        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
+            return std::make_unique<Bsp<decltype(prims)>>(std::move(prims), build_options(spec));
+        });
+    };
+    registry.push_back(std::move(info));
+}
+
+}  // namespace thicket
