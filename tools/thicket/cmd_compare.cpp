@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <set>
 
+#include <unistd.h>
+
 #include "bench_commands.h"
 #include "thicket/bench/compare_report.h"
 #include "thicket/bench/runner.h"
@@ -42,6 +44,18 @@ struct CompareArgs {
     bool no_plots = false;
     bool force = false;
 };
+
+// The 1-minute load average (Linux), or "unknown": other work on the machine is the first thing
+// to rule out when timings look noisy (as in `thicket bench`).
+std::string load_average() {
+    std::FILE* f = std::fopen("/proc/loadavg", "r");
+    double one = 0.0;
+    const bool ok = f && std::fscanf(f, "%lf", &one) == 1;
+    if (f) std::fclose(f);
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.2f", one);
+    return ok ? buf : "unknown";
+}
 
 std::string scene_label(const std::string& path) {
     const fs::path p(path);
@@ -85,6 +99,18 @@ void refuse_overwrite(const std::string& path, bool force) {
         throw Error(path + " already exists (use --force to overwrite it)");
 }
 
+// Fails now, rather than after the measurements, when the charts could not be written: the
+// directory (made only when the charts are written) must be one, or be creatable in a writable one.
+void check_plot_dir(const std::string& dir) {
+    std::error_code ec;
+    fs::path p = fs::absolute(dir, ec);
+    while (!ec && !fs::exists(p, ec) && p.has_parent_path() && p.parent_path() != p) p = p.parent_path();
+    if (ec || !fs::is_directory(p, ec))
+        throw Error("--plot-dir " + dir + ": " + p.string() + " is not a directory");
+    if (access(p.c_str(), W_OK | X_OK) != 0)
+        throw Error("--plot-dir " + dir + ": " + p.string() + " is not writable");
+}
+
 void write_output(const std::string& path, const std::string& bytes, const char* what) {
     if (path.empty()) return;
     const fs::path parent = fs::path(path).parent_path();
@@ -95,8 +121,16 @@ void write_output(const std::string& path, const std::string& bytes, const char*
 }
 
 std::vector<std::string> compare_specs(const std::vector<std::string>& asked) {
-    std::vector<std::string> specs;
+    std::vector<std::string> expanded;
     for (const std::string& s : asked.empty() ? default_compare_specs() : asked) {
+        if (s == "all") {
+            for (const std::string& v : all_accel_variants()) expanded.push_back(v);
+        } else {
+            expanded.push_back(s);
+        }
+    }
+    std::vector<std::string> specs;
+    for (const std::string& s : expanded) {
         parse_accel_spec(s);  // a typo fails now, not after the first structure's minutes
         if (std::find(specs.begin(), specs.end(), s) == specs.end()) specs.push_back(s);
     }
@@ -205,13 +239,7 @@ int run_compare(const CompareArgs& args) {
         refuse_overwrite(f.speed, args.force);
     }
     refuse_overwrite(args.json, args.force);
-    if (!args.no_plots) {
-        std::error_code ec;
-        fs::create_directories(args.plot_dir, ec);
-        if (ec || !fs::is_directory(args.plot_dir))
-            throw Error("--plot-dir " + args.plot_dir + ": cannot create the directory" +
-                        (ec ? ": " + ec.message() : std::string(" (a file of that name exists)")));
-    }
+    if (!args.no_plots) check_plot_dir(args.plot_dir);
 
     BenchOptions options;
     options.reps = args.reps;
@@ -222,6 +250,8 @@ int run_compare(const CompareArgs& args) {
         if (!names.empty()) names += ", ";
         names += s;
     }
+    std::printf("machine %u hardware threads; load average %s before the run\n", resolve_threads(0),
+                load_average().c_str());
     std::printf("compare %zu structures: %s\n", specs.size(), names.c_str());
     if (args.no_growth)
         std::printf("growth  not measured (--no-growth)\n");
@@ -274,6 +304,7 @@ int run_compare(const CompareArgs& args) {
         std::fflush(stdout);
         all_rows.insert(all_rows.end(), rows.begin(), rows.end());
     }
+    std::printf("machine load average %s after the run\n", load_average().c_str());
     write_output(args.json, compare_json(all_rows, settings), (std::to_string(all_rows.size()) + " rows").c_str());
     return 0;
 }
@@ -295,7 +326,8 @@ Command add_compare_command(CLI::App& app) {
     cmd->add_option("SCENE", args->scenes, scene_help())->required()->type_name("SCENE...");
     cmd->add_option("-a,--accel", args->accels,
                     "structure spec to compare (repeatable); default: every registered structure with its default "
-                    "options except brute force (name `brute` to include it: it is timed on a sample of the rays)")
+                    "options except brute force (name `brute` to include it: it is timed on a sample of the rays); `all` = "
+                    "every registered variant (`thicket accels`)")
         ->type_name("SPEC");
     cmd->add_option("--sizes", args->sizes,
                     "comma-separated triangle counts of the growth sweep, e.g. 1000,1e4,1e5 (default: 1k, 3k, 10k, "
