@@ -7,6 +7,7 @@ void register_brute(std::vector<AccelInfo>& registry) {
     AccelInfo info;
     info.name = "brute";
     info.summary = "brute force: tests every primitive; the reference every structure is checked against";
+    info.partitioning = Partitioning::None;
     info.variants = {"brute", "brute:isect=watertight"};
     info.build = [](const Scene& scene, const AccelSpec& spec) {
         return with_primitives(scene, spec, [](auto prims) -> std::unique_ptr<Accel> {

@@ -30,6 +30,7 @@ void register_bvh(std::vector<AccelInfo>& registry) {
     AccelInfo info;
     info.name = "bvh";
     info.summary = "the lecture's BVH: 32-byte nodes, node pool, in-place partition, SAH leaves";
+    info.partitioning = Partitioning::Object;
     info.options = {
         {"builder", "split choice: longest-axis midpoint, binned SAH (Wald 2007), or a full SAH sweep",
          "binned-sah", {"midpoint", "binned-sah", "sweep-sah"}, 0, 0},

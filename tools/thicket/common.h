@@ -23,6 +23,7 @@ Command add_trace_command(CLI::App& app);
 Command add_info_command(CLI::App& app);
 Command add_build_command(CLI::App& app);
 Command add_accels_command(CLI::App& app);
+Command add_compare_command(CLI::App& app);
 
 /// The --accel SPEC / --load FILE pair (mutually exclusive).
 struct AccelChoice {

@@ -23,7 +23,7 @@ int main(int argc, char** argv) {
         commands = {thicket::cli::add_render_command(app), thicket::cli::add_trace_command(app),
                     thicket::cli::add_info_command(app), thicket::cli::add_build_command(app),
                     thicket::cli::add_accels_command(app), thicket::cli::add_rays_command(app),
-                    thicket::cli::add_bench_command(app)};
+                    thicket::cli::add_bench_command(app), thicket::cli::add_compare_command(app)};
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         // Help and --version "fail" with exit code 0; real usage errors get the shell's usual 2.

@@ -34,9 +34,26 @@ struct AccelSpec {
     std::string str() const;
 };
 
+/// How a structure divides the scene (the lecture's comparison table, `thicket compare`):
+/// Object: primitives into groups whose bounds may overlap, each primitive in one leaf (BVH, BIH);
+/// Space: space into disjoint cells, a primitive referenced by every cell it overlaps (grid,
+/// octree, kD-tree, BSP); None: no division at all (brute force). Unknown: not declared.
+enum class Partitioning { Unknown, None, Object, Space };
+
+/// "object", "space", "none" or "unknown".
+inline const char* partitioning_name(Partitioning p) {
+    switch (p) {
+    case Partitioning::None: return "none";
+    case Partitioning::Object: return "object";
+    case Partitioning::Space: return "space";
+    default: return "unknown";
+    }
+}
+
 struct AccelInfo {
     std::string name;
     std::string summary;
+    Partitioning partitioning = Partitioning::Unknown;
     std::vector<OptionInfo> options;
     /// Specs of the variants that the conformance suite and `--accel all` run.
     std::vector<std::string> variants;
