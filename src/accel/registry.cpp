@@ -11,12 +11,12 @@ namespace thicket {
 
 void register_brute(std::vector<AccelInfo>& registry);
 void register_bvh(std::vector<AccelInfo>& registry);
-void register_octree(std::vector<AccelInfo>& registry);
-void register_bih(std::vector<AccelInfo>& registry);
-void register_kdtree(std::vector<AccelInfo>& registry);
 void register_grid(std::vector<AccelInfo>& registry);
 void register_grid2(std::vector<AccelInfo>& registry);
+void register_octree(std::vector<AccelInfo>& registry);
 void register_bsp(std::vector<AccelInfo>& registry);
+void register_kdtree(std::vector<AccelInfo>& registry);
+void register_bih(std::vector<AccelInfo>& registry);
 
 namespace {
 
@@ -34,12 +34,12 @@ std::vector<AccelInfo> make_registry() {
     std::vector<AccelInfo> r;
     register_brute(r);
     register_bvh(r);
-    register_octree(r);
-    register_bih(r);
-    register_kdtree(r);
     register_grid(r);
     register_grid2(r);
+    register_octree(r);
     register_bsp(r);
+    register_kdtree(r);
+    register_bih(r);
     for (AccelInfo& info : r) info.options.push_back(triangle_test_option());
     return r;
 }
