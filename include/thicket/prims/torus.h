@@ -1,0 +1,186 @@
+#pragma once
+/// The torus kernel (models ShapeKernel): the ring torus of points at distance `minor` from the
+/// circle of radius `major` around `center` in the plane perpendicular to the unit `axis`
+/// (0 < minor < major).
+///
+/// Robust rather than clever (closed-form quartic solvers lose roots to cancellation): in double,
+/// the ray is reparametrized by unit length from its closest approach to the centre and scaled
+/// so that major = 1; every root then lies in the chord through the bounding sphere (radius
+/// 1 + minor/major), where the quartic's coefficients are of order one. The chord is split at the
+/// real roots of q' (found the same way from q''), so q is monotone on each piece; each piece with
+/// a sign change holds exactly one root, found by safeguarded Newton. Rays through the hole and
+/// grazing rays therefore find every crossing whose sign change survives double rounding.
+///
+/// Surface parameters, in the frame (e1, e2, axis) with e1 the unit projection of +x onto the
+/// torus plane (of +y when the axis is within ~25 degrees of x) and e2 = axis x e1:
+/// u = phi / 2pi, phi the angle around the axis from e1 towards e2;
+/// v = psi / 2pi, psi the angle around the tube from the outer equator towards +axis.
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "thicket/prims/shape.h"
+#include "thicket/prims/shape_util.h"
+
+namespace thicket {
+
+struct Torus {
+    static constexpr const char* kName = "torus";
+
+    Vec3 center;
+    Vec3 axis{0.0f, 1.0f, 0.0f};  ///< unit length (renormalized in double on use)
+    float major = 1.0f;           ///< R: radius of the tube's centre circle
+    float minor = 0.25f;          ///< r: radius of the tube, 0 < r < R
+
+    /// The exact box of the torus: along world axis k it reaches R sqrt(1 - axis_k^2) + r.
+    Aabb bounds() const {
+        const DVec3 a = unit_axis(), c(center);
+        DVec3 h;
+        const double R = major, r = minor;
+        h.x = R * std::sqrt(std::max(0.0, 1.0 - a.x * a.x)) + r;
+        h.y = R * std::sqrt(std::max(0.0, 1.0 - a.y * a.y)) + r;
+        h.z = R * std::sqrt(std::max(0.0, 1.0 - a.z * a.z)) + r;
+        return outward_box(c - h, c + h);
+    }
+
+    /// First crossing with t in [ray.tmin, tmax]; the roots depend on the ray alone.
+    bool intersect(const Ray& ray, float tmax, ShapeHit& hit) const {
+        const DVec3 d0(ray.dir);
+        const double dlen = length(d0);
+        if (!(dlen > 0.0) || !std::isfinite(dlen)) return false;
+        const double R = major;
+        const DVec3 d = d0 / dlen, a = unit_axis();
+        const DVec3 f = DVec3(ray.org) - DVec3(center);
+        // Closest approach to the centre, in unit length along d: the new origin.
+        const double t_mid = -dot(f, d);
+        const DVec3 o = (f + d * t_mid) / R;  // scaled: R = 1
+        const double rr = double(minor) / R;
+        const double reach = (1.0 + rr) * (1.0 + 1e-9);  // bounding sphere, widened for rounding
+        const double m2 = dot(o, o);
+        if (!(m2 <= reach * reach)) return false;
+        const double h = std::sqrt(reach * reach - m2);
+        // Every root lies in s in [-h, h]: skip the solve when that chord is outside the window
+        // (float(...) is monotone, so no root can be inside it then).
+        if (float((t_mid + h * R) / dlen) < ray.tmin || float((t_mid - h * R) / dlen) > tmax) return false;
+
+        // q(s) = (|p|^2 + 1 - rr^2)^2 - 4 (|p|^2 - (p.a)^2), p = o + s d. g = o.d is zero up to
+        // rounding; kept so the coefficients are exact for the o that was computed.
+        const double g = dot(o, d), ya = dot(o, a), yd = dot(d, a);
+        const double k = m2 + 1.0 - rr * rr;
+        const std::array<double, 5> q = {
+            k * k - 4.0 * (m2 - ya * ya),                    // s^0
+            4.0 * g * k - 8.0 * (g - ya * yd),               // s^1
+            4.0 * g * g + 2.0 * k - 4.0 * (1.0 - yd * yd),   // s^2
+            4.0 * g,                                         // s^3
+            1.0,                                             // s^4
+        };
+        double roots[4];
+        const int n = quartic_roots_in(q, -h, h, roots);
+        for (int i = 0; i < n; ++i) {
+            const double s = roots[i];
+            const float tf = float((t_mid + s * R) / dlen);
+            if (!(tf >= ray.tmin && tf <= tmax)) continue;
+            const DVec3 p = o + d * s;
+            const double y = dot(p, a);
+            const DVec3 w = p - a * y;  // towards the tube's centre circle
+            DVec3 e1, e2;
+            frame(a, e1, e2);
+            hit.t = tf;
+            hit.u = turn_fraction(std::atan2(dot(w, e2), dot(w, e1)));
+            hit.v = turn_fraction(std::atan2(y, length(w) - 1.0));
+            return true;
+        }
+        return false;
+    }
+
+    /// The gradient direction at the point with parameters (u, v): cos psi (cos phi e1 + sin phi
+    /// e2) + sin psi axis. Computed from (u, v), exact wherever the float hit point lies.
+    Vec3 normal(Vec3, float u, float v) const {
+        const DVec3 a = unit_axis();
+        DVec3 e1, e2;
+        frame(a, e1, e2);
+        const double phi = kTwoPi * u, psi = kTwoPi * v;
+        const DVec3 radial = e1 * std::cos(phi) + e2 * std::sin(phi);
+        return (radial * std::cos(psi) + a * std::sin(psi)).to_float();
+    }
+
+    DVec3 unit_axis() const { return normalize(DVec3(axis)); }
+
+    /// The (e1, e2) of the (u, v) convention: e1 from +x (or +y), e2 = a x e1.
+    static void frame(DVec3 a, DVec3& e1, DVec3& e2) {
+        const DVec3 ref = std::fabs(a.x) < 0.9 ? DVec3(1, 0, 0) : DVec3(0, 1, 0);
+        e1 = normalize(ref - a * dot(ref, a));
+        e2 = cross(a, e1);
+    }
+
+    /// Real roots of the monic quartic q (coefficients by ascending power) in [lo, hi], ascending,
+    /// where q(lo) > 0 and q(hi) > 0 (both ends outside the torus). Returns how many.
+    static int quartic_roots_in(const std::array<double, 5>& q, double lo, double hi, double* roots) {
+        const std::array<double, 4> dq = {q[1], 2 * q[2], 3 * q[3], 4 * q[4]};
+        const std::array<double, 3> ddq = {dq[1], 2 * dq[2], 3 * dq[3]};
+        // Breakpoints: lo, the roots of q' in (lo, hi), hi. q' is split at the roots of q''.
+        double cuts[5];
+        int ncuts = 0;
+        cuts[ncuts++] = lo;
+        {
+            double c2[4];
+            int n2 = 0;
+            c2[n2++] = lo;
+            double r[2];
+            const int nr = quadratic_roots(ddq[0], ddq[1], ddq[2], r);
+            for (int i = 0; i < nr; ++i)
+                if (r[i] > lo && r[i] < hi) c2[n2++] = r[i];
+            c2[n2++] = hi;
+            for (int i = 0; i + 1 < n2; ++i) {
+                const double a = c2[i], b = c2[i + 1];
+                const double fa = eval(dq, a), fb = eval(dq, b);
+                if (fa == 0.0) {
+                    if (a > lo) cuts[ncuts++] = a;
+                } else if ((fa < 0.0) != (fb < 0.0) && fb != 0.0) {
+                    cuts[ncuts++] = bracketed_newton([&](double x) { return eval(dq, x); },
+                                                     [&](double x) { return eval(ddq, x); }, a, b, fa, 1e-15);
+                }
+            }
+        }
+        cuts[ncuts++] = hi;
+        int n = 0;
+        for (int i = 0; i + 1 < ncuts; ++i) {
+            const double a = cuts[i], b = cuts[i + 1];
+            const double fa = eval(q, a), fb = eval(q, b);
+            if (fa == 0.0) {
+                if (n == 0 || roots[n - 1] != a) roots[n++] = a;
+            } else if ((fa < 0.0) != (fb < 0.0) && fb != 0.0) {
+                roots[n++] = bracketed_newton([&](double x) { return eval(q, x); },
+                                              [&](double x) { return eval(dq, x); }, a, b, fa, 1e-15);
+            }
+            if (n == 4) break;
+        }
+        return n;
+    }
+
+    template <size_t N>
+    static double eval(const std::array<double, N>& c, double x) {
+        double r = c[N - 1];
+        for (size_t i = N - 1; i-- > 0;) r = r * x + c[i];
+        return r;
+    }
+
+    /// Real roots of c0 + c1 x + c2 x^2 (c2 > 0 here), ascending, without cancellation.
+    static int quadratic_roots(double c0, double c1, double c2, double* r) {
+        const double disc = c1 * c1 - 4.0 * c2 * c0;
+        if (!(disc >= 0.0)) return 0;
+        const double qq = -0.5 * (c1 + std::copysign(std::sqrt(disc), c1));
+        if (qq == 0.0) {
+            r[0] = 0.0;
+            return 1;
+        }
+        r[0] = qq / c2;
+        r[1] = c0 / qq;
+        if (r[0] > r[1]) std::swap(r[0], r[1]);
+        return 2;
+    }
+};
+
+static_assert(ShapeKernel<Torus>);
+
+}  // namespace thicket
