@@ -49,10 +49,12 @@ struct Sphere {
         for (const double t : {t0, t1}) {
             const float tf = float(t);
             if (!(tf >= ray.tmin && tf <= tmax)) continue;
-            const DVec3 n = f + d * t;  // radius times the normal, relative to the centre
+            // The unit normal in double, its angles in float: (u, v) are floats anyway, and
+            // float atan2/acos cost a third of double ones.
+            const Vec3 n = normalize(f + d * t).to_float();
             hit.t = tf;
             hit.u = turn_fraction(std::atan2(-n.z, n.x));
-            hit.v = float(std::acos(std::clamp(n.y / length(n), -1.0, 1.0)) / (kTwoPi / 2));
+            hit.v = std::acos(std::clamp(n.y, -1.0f, 1.0f)) * float(2.0 / kTwoPi);
             return true;
         }
         return false;

@@ -6,10 +6,12 @@
 /// Robust rather than clever (closed-form quartic solvers lose roots to cancellation): in double,
 /// the ray is reparametrized by unit length from its closest approach to the centre and scaled
 /// so that major = 1; every root then lies in the chord through the bounding sphere (radius
-/// 1 + minor/major), where the quartic's coefficients are of order one. The chord is split at the
-/// real roots of q' (found the same way from q''), so q is monotone on each piece; each piece with
-/// a sign change holds exactly one root, found by safeguarded Newton. Rays through the hole and
-/// grazing rays therefore find every crossing whose sign change survives double rounding.
+/// 1 + minor/major), where the quartic's coefficients are of order one, narrowed to the slab
+/// that holds the tube (rays through the hole are rejected there without solving). The chord is split at the
+/// real roots of q' and q'' (found the same way, recursively), so q is monotone without inflection
+/// on each piece; each piece with a sign change holds exactly one root, which Newton reaches
+/// from the side that cannot overshoot (polynomial_roots_in). Rays through the hole and grazing
+/// rays therefore find every crossing whose sign change survives double rounding.
 ///
 /// Surface parameters, in the frame (e1, e2, axis) with e1 the unit projection of +x onto the
 /// torus plane (of +y when the axis is within ~25 degrees of x) and e2 = axis x e1:
@@ -43,6 +45,12 @@ struct Torus {
         return outward_box(c - h, c + h);
     }
 
+    /// Newton stops once a step is below this (in units of R): the error is then about its square
+    /// where the root is simple, and this where it is double (a tangent ray).
+    static constexpr double kRootTolerance = 1e-10;
+    /// Relative widening of the bounding sphere, slab and hole tests, far above double rounding.
+    static constexpr double kMargin = 1e-6;
+
     /// First crossing with t in [ray.tmin, tmax]; the roots depend on the ray alone.
     bool intersect(const Ray& ray, float tmax, ShapeHit& hit) const {
         const DVec3 d0(ray.dir);
@@ -55,17 +63,38 @@ struct Torus {
         const double t_mid = -dot(f, d);
         const DVec3 o = (f + d * t_mid) / R;  // scaled: R = 1
         const double rr = double(minor) / R;
-        const double reach = (1.0 + rr) * (1.0 + 1e-9);  // bounding sphere, widened for rounding
+        const double reach = (1.0 + rr) * (1.0 + kMargin);  // bounding sphere, widened for rounding
         const double m2 = dot(o, o);
         if (!(m2 <= reach * reach)) return false;
         const double h = std::sqrt(reach * reach - m2);
-        // Every root lies in s in [-h, h]: skip the solve when that chord is outside the window
+        double lo = -h, hi = h;
+        // Narrow to the slab |p.a| <= rr holding the tube (widened: its ends must lie outside).
+        const double g = dot(o, d), ya = dot(o, a), yd = dot(d, a);
+        const double slab = rr * (1.0 + kMargin);
+        if (yd != 0.0) {
+            double s0 = (-slab - ya) / yd, s1 = (slab - ya) / yd;
+            if (s0 > s1) std::swap(s0, s1);
+            lo = std::max(lo, s0);
+            hi = std::min(hi, s1);
+            if (!(lo <= hi)) return false;
+        } else if (!(std::fabs(ya) <= slab)) {
+            return false;
+        }
+        // Through the hole: the distance from the axis is convex along the ray, so if both ends
+        // are inside the cylinder rho < 1 - rr, so is everything between.
+        const double hole = (1.0 - rr) * (1.0 - kMargin);
+        auto rho2 = [&](double s) {
+            const DVec3 p = o + d * s;
+            const double y = dot(p, a);
+            return dot(p, p) - y * y;
+        };
+        if (rho2(lo) < hole * hole && rho2(hi) < hole * hole) return false;
+        // Every root lies in s in [lo, hi]: skip the solve when that is outside the window
         // (float(...) is monotone, so no root can be inside it then).
-        if (float((t_mid + h * R) / dlen) < ray.tmin || float((t_mid - h * R) / dlen) > tmax) return false;
+        if (float((t_mid + hi * R) / dlen) < ray.tmin || float((t_mid + lo * R) / dlen) > tmax) return false;
 
         // q(s) = (|p|^2 + 1 - rr^2)^2 - 4 (|p|^2 - (p.a)^2), p = o + s d. g = o.d is zero up to
         // rounding; kept so the coefficients are exact for the o that was computed.
-        const double g = dot(o, d), ya = dot(o, a), yd = dot(d, a);
         const double k = m2 + 1.0 - rr * rr;
         const std::array<double, 5> q = {
             k * k - 4.0 * (m2 - ya * ya),                    // s^0
@@ -75,7 +104,7 @@ struct Torus {
             1.0,                                             // s^4
         };
         double roots[4];
-        const int n = quartic_roots_in(q, -h, h, roots);
+        const int n = polynomial_roots_in(q, lo, hi, roots, kRootTolerance);
         for (int i = 0; i < n; ++i) {
             const double s = roots[i];
             const float tf = float((t_mid + s * R) / dlen);
@@ -113,72 +142,6 @@ struct Torus {
         e2 = cross(a, e1);
     }
 
-    /// Real roots of the monic quartic q (coefficients by ascending power) in [lo, hi], ascending,
-    /// where q(lo) > 0 and q(hi) > 0 (both ends outside the torus). Returns how many.
-    static int quartic_roots_in(const std::array<double, 5>& q, double lo, double hi, double* roots) {
-        const std::array<double, 4> dq = {q[1], 2 * q[2], 3 * q[3], 4 * q[4]};
-        const std::array<double, 3> ddq = {dq[1], 2 * dq[2], 3 * dq[3]};
-        // Breakpoints: lo, the roots of q' in (lo, hi), hi. q' is split at the roots of q''.
-        double cuts[5];
-        int ncuts = 0;
-        cuts[ncuts++] = lo;
-        {
-            double c2[4];
-            int n2 = 0;
-            c2[n2++] = lo;
-            double r[2];
-            const int nr = quadratic_roots(ddq[0], ddq[1], ddq[2], r);
-            for (int i = 0; i < nr; ++i)
-                if (r[i] > lo && r[i] < hi) c2[n2++] = r[i];
-            c2[n2++] = hi;
-            for (int i = 0; i + 1 < n2; ++i) {
-                const double a = c2[i], b = c2[i + 1];
-                const double fa = eval(dq, a), fb = eval(dq, b);
-                if (fa == 0.0) {
-                    if (a > lo) cuts[ncuts++] = a;
-                } else if ((fa < 0.0) != (fb < 0.0) && fb != 0.0) {
-                    cuts[ncuts++] = bracketed_newton([&](double x) { return eval(dq, x); },
-                                                     [&](double x) { return eval(ddq, x); }, a, b, fa, 1e-15);
-                }
-            }
-        }
-        cuts[ncuts++] = hi;
-        int n = 0;
-        for (int i = 0; i + 1 < ncuts; ++i) {
-            const double a = cuts[i], b = cuts[i + 1];
-            const double fa = eval(q, a), fb = eval(q, b);
-            if (fa == 0.0) {
-                if (n == 0 || roots[n - 1] != a) roots[n++] = a;
-            } else if ((fa < 0.0) != (fb < 0.0) && fb != 0.0) {
-                roots[n++] = bracketed_newton([&](double x) { return eval(q, x); },
-                                              [&](double x) { return eval(dq, x); }, a, b, fa, 1e-15);
-            }
-            if (n == 4) break;
-        }
-        return n;
-    }
-
-    template <size_t N>
-    static double eval(const std::array<double, N>& c, double x) {
-        double r = c[N - 1];
-        for (size_t i = N - 1; i-- > 0;) r = r * x + c[i];
-        return r;
-    }
-
-    /// Real roots of c0 + c1 x + c2 x^2 (c2 > 0 here), ascending, without cancellation.
-    static int quadratic_roots(double c0, double c1, double c2, double* r) {
-        const double disc = c1 * c1 - 4.0 * c2 * c0;
-        if (!(disc >= 0.0)) return 0;
-        const double qq = -0.5 * (c1 + std::copysign(std::sqrt(disc), c1));
-        if (qq == 0.0) {
-            r[0] = 0.0;
-            return 1;
-        }
-        r[0] = qq / c2;
-        r[1] = c0 / qq;
-        if (r[0] > r[1]) std::swap(r[0], r[1]);
-        return 2;
-    }
 };
 
 static_assert(ShapeKernel<Torus>);
