@@ -49,6 +49,9 @@ public:
     bool parallel_build() const override { return true; }
 
     double build(const Scene& scene, unsigned threads) override {
+        if (scene.has_shapes())
+            throw Error("Embree backend: " + scene.name + " has " + std::to_string(scene.shapes.size()) +
+                        " shapes, and this backend holds triangles only");
         release();
         log_ = std::make_unique<DeviceLog>();
         // threads=N bounds Embree's task system; 0 leaves it at one thread per core.

@@ -32,7 +32,7 @@ bool centre_is_interior(const Scene& scene, const Accel& accel, const Camera& pr
             const Hit h = accel.intersect(r);
             if (!h.found()) continue;
             ++hits;
-            front += dot(scene.geometric_normal(h.prim), r.dir) < 0.0f;
+            front += dot(scene.normal(r, h), r.dir) < 0.0f;
         }
     }
     return double(hits) >= kProbeMinHits * kProbeWidth * kProbeHeight &&
@@ -66,10 +66,8 @@ std::vector<SurfacePoint> surface_points(const Scene& scene, const Accel& accel,
     for (size_t i = 0; i < primary.size(); ++i) {
         if (!hits[i].found()) continue;
         const Ray& r = primary[i];
-        Vec3 n = scene.geometric_normal(hits[i].prim);
-        const float len = length(n);
-        if (!(len > 0.0f) || !std::isfinite(len)) continue;  // degenerate triangle: no usable normal
-        n = n / len;
+        Vec3 n = scene.normal(r, hits[i]);
+        if (n == Vec3{}) continue;  // degenerate triangle: no usable normal
         if (dot(n, r.dir) > 0.0f) n = -n;
         const Vec3 p = r.org + r.dir * hits[i].t;
         points.push_back({uint32_t(i), p + n * offset, n});

@@ -32,13 +32,10 @@ std::string format_tick(double v) {
     return buf;
 }
 
-Vec3 normal_colour(const Scene& scene, const Hit& hit, Vec3 dir) {
-    if (hit.prim >= scene.primitive_count()) return Vec3{0.5f};
-    Vec3 n = scene.geometric_normal(hit.prim);
-    const float len = length(n);
-    if (!(len > 0.0f) || !std::isfinite(len)) return Vec3{0.5f};  // zero-area triangle: no direction
-    n = n / len;
-    if (dot(n, dir) > 0.0f) n = -n;  // show the side the viewer sees
+Vec3 normal_colour(const Scene& scene, const Hit& hit, const Ray& ray) {
+    Vec3 n = scene.normal(ray, hit);
+    if (n == Vec3{}) return Vec3{0.5f};  // zero-area triangle: no direction
+    if (dot(n, ray.dir) > 0.0f) n = -n;  // show the side the viewer sees
     return n * 0.5f + Vec3{0.5f};
 }
 
@@ -147,7 +144,7 @@ Image render_view(const Scene& scene, const Accel& accel, const Camera& camera, 
                 if (options.view == View::Depth)
                     depth[i] = hit.t;
                 else if (options.view == View::Normal)
-                    image.at(x, int(y)) = to_rgb8(normal_colour(scene, hit, ray.dir));
+                    image.at(x, int(y)) = to_rgb8(normal_colour(scene, hit, ray));
             }
         }
         hits += chunk_hits;

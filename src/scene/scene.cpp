@@ -1,6 +1,7 @@
 // Scene loading entry point: built-in names first, then dispatch on the file extension.
 #include "thicket/scene/scene.h"
 
+#include <algorithm>
 #include <bit>
 #include <cctype>
 #include <filesystem>
@@ -10,7 +11,18 @@
 
 namespace thicket {
 
-/// FNV-1a 64 over each triangle's nine vertex floats (as bits), in order, then the triangle count.
+namespace {
+
+std::string lower_extension(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext;
+}
+
+}  // namespace
+
+/// FNV-1a 64 over each triangle's nine vertex floats (as bits), in order, then the triangle count;
+/// with shapes, then every shape (type and parameters) and the id runs.
 uint64_t Scene::fingerprint() const {
     uint64_t h = 0xcbf29ce484222325ull;
     auto mix = [&h](uint64_t value, int bytes) {
@@ -28,7 +40,123 @@ uint64_t Scene::fingerprint() const {
             mix(std::bit_cast<uint32_t>(v.z), 4);
         }
     mix(uint64_t(n), 8);
+    if (shapes.empty()) return h;  // triangle-only scenes keep their fingerprint
+    for (const Shape& s : shapes) h = shape_hash(s, h);
+    mix(uint64_t(shapes.size()), 8);
+    for (const PrimRun& r : runs) {
+        mix(r.first, 4);
+        mix(r.count, 4);
+        mix(r.shapes ? 1u : 0u, 1);
+    }
     return h;
+}
+
+Aabb Scene::bounds() const {
+    Aabb b = mesh.bounds();
+    for (const Shape& s : shapes) b.grow(shape_bounds(s));
+    return b;
+}
+
+PrimRef Scene::locate(uint32_t prim) const {
+    if (runs.empty()) {
+        const auto tris = uint32_t(mesh.triangle_count());
+        return prim < tris ? PrimRef{false, prim} : PrimRef{true, prim - tris};
+    }
+    auto it = std::upper_bound(runs.begin(), runs.end(), prim, [](uint32_t p, const PrimRun& r) { return p < r.first; });
+    if (it != runs.begin()) --it;
+    return {it->shapes, it->index + (prim - it->first)};
+}
+
+Vec3 Scene::geometric_normal(uint32_t prim) const {
+    const PrimRef ref = locate(prim);
+    if (ref.shape) return Vec3{};
+    const Vec3 a = mesh.vertex(ref.index, 0), b = mesh.vertex(ref.index, 1), c = mesh.vertex(ref.index, 2);
+    return cross(b - a, c - a);
+}
+
+Vec3 Scene::normal(const Ray& ray, const Hit& hit) const {
+    if (hit.prim >= primitive_count()) return Vec3{};
+    const PrimRef ref = locate(hit.prim);
+    if (ref.shape) return shape_normal(shapes[ref.index], ray.org + ray.dir * hit.t, hit.u, hit.v);
+    // As float as it always was, so the ray sets and images of triangle scenes keep their bits.
+    const Vec3 n = geometric_normal(hit.prim);
+    const float len = length(n);
+    if (!(len > 0.0f) || !std::isfinite(len)) return Vec3{};  // zero-area triangle: no direction
+    return n / len;
+}
+
+namespace {
+
+/// Appends `count` ids of one kind to the runs, merging with the last run of the same kind.
+void push_run(std::vector<PrimRun>& runs, uint32_t first, bool shapes, uint32_t index, uint32_t count) {
+    if (count == 0) return;
+    if (!runs.empty() && runs.back().shapes == shapes) {
+        runs.back().count += count;
+        return;
+    }
+    runs.push_back({first, count, shapes, index});
+}
+
+/// The runs an empty `runs` stands for: every triangle, then every shape.
+void make_runs_explicit(Scene& s) {
+    if (!s.runs.empty()) return;
+    const auto tris = uint32_t(s.mesh.triangle_count());
+    push_run(s.runs, 0, false, 0, tris);
+    push_run(s.runs, tris, true, 0, uint32_t(s.shapes.size()));
+}
+
+void check_id_space(const Scene& s, size_t more) {
+    if (s.primitive_count() + more >= size_t(kNoPrim))
+        throw Error(s.name + ": more than " + std::to_string(kNoPrim - 1) + " primitives");
+}
+
+}  // namespace
+
+void Scene::add_mesh(const TriangleMesh& m) {
+    const size_t tris = m.triangle_count();
+    check_id_space(*this, tris);
+    make_runs_explicit(*this);
+    const size_t old_tris = mesh.triangle_count();
+    const auto base = uint32_t(mesh.positions.size());
+    mesh.positions.insert(mesh.positions.end(), m.positions.begin(), m.positions.end());
+    mesh.indices.reserve(mesh.indices.size() + 3 * tris);
+    for (size_t i = 0; i < 3 * tris; ++i) mesh.indices.push_back(base + m.indices[i]);
+
+    // Materials: once any mesh has them, every triangle has one (a default for those without).
+    const bool theirs = m.material_ids.size() == tris && tris > 0;
+    if (theirs || !mesh.material_ids.empty()) {
+        auto add_default = [this] {
+            Material d;
+            d.name = "default";
+            mesh.materials.push_back(d);
+            return uint32_t(mesh.materials.size() - 1);
+        };
+        if (mesh.material_ids.empty() && old_tris > 0) mesh.material_ids.assign(old_tris, add_default());
+        if (theirs) {
+            const auto offset = uint32_t(mesh.materials.size());
+            mesh.materials.insert(mesh.materials.end(), m.materials.begin(), m.materials.end());
+            for (uint32_t id : m.material_ids) mesh.material_ids.push_back(offset + id);
+        } else if (tris > 0) {
+            mesh.material_ids.insert(mesh.material_ids.end(), tris, add_default());
+        }
+    }
+    push_run(runs, uint32_t(primitive_count() - tris), false, uint32_t(old_tris), uint32_t(tris));
+}
+
+void Scene::add_shape(const Shape& s) {
+    check_id_space(*this, 1);
+    make_runs_explicit(*this);
+    shapes.push_back(s);
+    push_run(runs, uint32_t(primitive_count() - 1), true, uint32_t(shapes.size() - 1), 1);
+}
+
+TriangleMesh load_mesh(const std::string& path) {
+    const std::string ext = lower_extension(path);
+    if (ext == ".ply") return load_ply(path);
+    if (ext == ".obj") return load_obj(path);
+    if (ext == ".gltf" || ext == ".glb") return load_gltf(path);
+    throw Error(path + ": unknown mesh format " + (ext.empty() ? std::string("(no extension)") : "'" + ext + "'") +
+                " (supported: .ply, .obj, .gltf, .glb)");
 }
 
 const char* builtin_scene_names() { return "cornell"; }
@@ -47,18 +175,17 @@ Scene load_scene(const std::string& path_or_builtin) {
     if (!fs::exists(st)) throw Error(path + ": no such file");
     if (fs::is_directory(st)) throw Error(path + ": is a directory, not a scene file");
 
-    std::string ext = fs::path(path).extension().string();
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    if (ext == ".ply")
-        scene.mesh = load_ply(path);
-    else if (ext == ".obj")
-        scene.mesh = load_obj(path);
-    else if (ext == ".gltf" || ext == ".glb")
-        scene.mesh = load_gltf(path);
-    else
+    const std::string ext = lower_extension(path);
+    if (ext == ".json") {
+        scene = load_json_scene(path);
+        scene.name = path;
+    } else if (ext == ".ply" || ext == ".obj" || ext == ".gltf" || ext == ".glb") {
+        scene.mesh = load_mesh(path);
+    } else {
         throw Error(path + ": unknown scene format " +
                     (ext.empty() ? std::string("(no extension)") : "'" + ext + "'") +
-                    " (supported: .ply, .obj, .gltf, .glb; built-in scenes: " + builtin_scene_names() + ")");
+                    " (supported: .ply, .obj, .gltf, .glb, .json; built-in scenes: " + builtin_scene_names() + ")");
+    }
     return scene;
 }
 

@@ -6,6 +6,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <random>
 
 namespace thicket::testing {
@@ -68,7 +69,100 @@ TriangleMesh closed_cube(int n) {
     return m;
 }
 
+TriangleMesh translated(TriangleMesh m, Vec3 by, float scale) {
+    for (Vec3& p : m.positions) p = p * scale + by;
+    return m;
+}
+
+/// Where the ray first meets shape s (any t >= ray.tmin), if it does.
+std::optional<float> shape_hit(const Shape& s, const Ray& ray) {
+    ShapeHit h;
+    const bool hit = std::visit([&](const auto& k) { return k.intersect(ray, kInfinity, h); }, s);
+    return hit ? std::optional<float>(h.t) : std::nullopt;
+}
+
+/// Rays for scenes with shapes, `share` of each kind (see conformance_rays()).
+void add_shape_rays(const Scene& scene, size_t share, std::mt19937& rng, std::vector<Ray>& rays) {
+    std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+    const size_t n = scene.shapes.size();
+    auto near_origin = [&](const Aabb& b) {
+        const Vec3 e = max(b.extent(), Vec3(1e-30f));
+        return random_point(rng, b.min - e * 1.5f, b.max + e * 1.5f);
+    };
+    // Aimed at a point of the shape's box from near it (the scene may be dominated by a huge shape).
+    for (size_t i = 0; i < share; ++i) {
+        const Aabb b = shape_bounds(scene.shapes[rng() % n]);
+        const Vec3 o = near_origin(b);
+        rays.push_back({o, 0.0f, random_point(rng, b.min, b.max) - o, kInfinity});
+    }
+    // Grazing the silhouette: bisect the aim point between a hit and a miss beside the box.
+    for (size_t i = 0; i < share; ++i) {
+        const Shape& s = scene.shapes[rng() % n];
+        const Aabb b = shape_bounds(s);
+        const Vec3 o = near_origin(b);
+        Vec3 in = b.center(), out = b.center() + (random_point(rng, Vec3(-1), Vec3(1))) * (2.0f * length(b.extent()));
+        for (int k = 0; k < 8 && !shape_hit(s, {o, 0.0f, in - o, kInfinity}); ++k) in = random_point(rng, b.min, b.max);
+        for (int k = 0; k < 40; ++k) {
+            const Vec3 mid = (in + out) * 0.5f;
+            (shape_hit(s, {o, 0.0f, mid - o, kInfinity}) ? in : out) = mid;
+        }
+        rays.push_back({o, 0.0f, ((i % 2) ? in : out) - o, kInfinity});
+    }
+    // Starting on a shape (tmin 0, where the origin's own surface may be hit at t ~ 0), inward or outward.
+    for (size_t i = 0; i < share; ++i) {
+        const Shape& s = scene.shapes[rng() % n];
+        const Aabb b = shape_bounds(s);
+        const Vec3 o = near_origin(b);
+        const Ray probe{o, 0.0f, random_point(rng, b.min, b.max) - o, kInfinity};
+        const auto t = shape_hit(s, probe);
+        const Vec3 start = t ? o + probe.dir * *t : b.center();
+        Vec3 d = random_point(rng, Vec3(-1), Vec3(1));
+        if (dot(d, d) == 0.0f) d = {0, 1, 0};
+        rays.push_back({start, 0.0f, d, kInfinity});
+    }
+    // Narrow and shifted windows around a shape's hit at t = 1.
+    for (size_t i = 0; i < share; ++i) {
+        const Shape& s = scene.shapes[rng() % n];
+        const Aabb b = shape_bounds(s);
+        const Vec3 o = near_origin(b);
+        const Ray probe{o, 0.0f, random_point(rng, b.min, b.max) - o, kInfinity};
+        const auto t = shape_hit(s, probe);
+        const Vec3 d = probe.dir * (t ? *t : 1.0f);
+        switch (i % 4) {
+        case 0: rays.push_back({o, 0.999f, d, 1.001f}); break;
+        case 1: rays.push_back({o, 1.0001f, d, kInfinity}); break;  // just beyond: the far root
+        case 2: rays.push_back({o, 0.0f, d, 0.9999f}); break;       // stops short of it
+        default: rays.push_back({o, 1.0f, d, 1.0f}); break;         // a single point
+        }
+    }
+}
+
 }  // namespace
+
+Scene mixed_scene() {
+    Scene s;
+    s.name = "mixed";
+    s.add_mesh(random_soup(150, {-1, -1, -1}, {1, 1, 1}, 0.15f, 31));
+    s.add_shape(Sphere{{0, 0, 0}, 0.5f});
+    s.add_shape(Sphere{{1, 0, 0}, 0.5f});                           // touches the first at (0.5, 0, 0)
+    s.add_shape(Torus{{0.2f, 0.1f, -0.1f}, {0, 1, 0}, 0.7f, 0.15f});  // cuts through the first sphere
+    {
+        TriangleMesh floor;  // the first sphere rests on it at (0, -0.5, 0)
+        add_triangle(floor, {-1.5f, -0.5f, -1.5f}, {1.5f, -0.5f, -1.5f}, {1.5f, -0.5f, 1.5f});
+        add_triangle(floor, {-1.5f, -0.5f, -1.5f}, {1.5f, -0.5f, 1.5f}, {-1.5f, -0.5f, 1.5f});
+        s.add_mesh(floor);
+    }
+    s.add_shape(Sphere{{1, 0, 0}, 0.5f});  // the same sphere again: coincident surfaces tie
+    const Vec3 tilted = normalize(Vec3{1, 1, 0});
+    s.add_shape(Torus{{-0.6f, 0.6f, 0.5f}, tilted, 0.35f, 0.1f});
+    s.add_shape(Sphere{{-0.6f, 0.6f, 0.5f}, 0.2f});  // in that torus's hole, 0.05 from the tube
+    s.add_mesh(translated(closed_cube(3), {-1.2f, -0.2f, 0.6f}, 0.4f));
+    s.add_shape(Torus{{0.3f, -0.7f, 0.4f}, {0, 0, 1}, 2e-4f, 5e-5f});  // tiny
+    s.add_shape(Sphere{{0.3f, -0.7f, 0.4f}, 1e-4f});                 // tiny, in its hole
+    s.add_shape(Torus{{0.5f, 0.5f, -0.5f}, normalize(Vec3{0.3f, -0.2f, 0.9f}), 0.3f, 0.02f});  // thin
+    s.add_shape(Sphere{{0, -1e4f - 1.2f, 0}, 1e4f});  // huge: most ray origins lie inside it
+    return s;
+}
 
 std::vector<Scene> nasty_scenes() {
     std::vector<Scene> scenes;
@@ -131,6 +225,7 @@ std::vector<Scene> nasty_scenes() {
     scenes.push_back(make("huge", random_soup(500, Vec3(1e7f), Vec3(1.5e7f), 2e5f, 21)));
     scenes.push_back(make("tiny", random_soup(500, Vec3(-1e-7f), Vec3(1e-7f), 2e-8f, 22)));
     scenes.push_back(make("closed-cube", closed_cube(6)));
+    scenes.push_back(mixed_scene());
     scenes.push_back(make("soup", random_soup(2000, {-1, -1, -1}, {1, 1, 1}, 0.1f, 23)));
     return scenes;
 }
@@ -174,7 +269,7 @@ std::vector<Ray> conformance_rays(const Scene& scene, size_t count, uint32_t see
     if (b.empty()) b = Aabb{Vec3(-1), Vec3(1)};
     const Vec3 ext = max(b.extent(), Vec3(max_component(b.extent()) * 0.01f + 1e-30f));
     const Vec3 lo = b.min - ext * 0.25f, hi = b.max + ext * 0.25f;
-    const size_t tris = scene.primitive_count();
+    const size_t tris = scene.mesh.triangle_count();
     auto random_dir = [&] {
         while (true) {
             const Vec3 d = random_point(rng, Vec3(-1), Vec3(1));
@@ -186,7 +281,8 @@ std::vector<Ray> conformance_rays(const Scene& scene, size_t count, uint32_t see
         const Vec3 v0 = scene.mesh.vertex(t, 0), v1 = scene.mesh.vertex(t, 1), v2 = scene.mesh.vertex(t, 2);
         return v0 + (v1 - v0) * a + (v2 - v0) * c;
     };
-    const size_t share = std::max<size_t>(1, count / 6);
+    // Six kinds of rays for triangles, four more for shapes; the rest fully random.
+    const size_t share = std::max<size_t>(1, count / (scene.has_shapes() ? 10 : 6));
 
     // Random origins around the scene, aimed at random points inside it or in random directions.
     for (size_t i = 0; i < share; ++i) {
@@ -235,6 +331,7 @@ std::vector<Ray> conformance_rays(const Scene& scene, size_t count, uint32_t see
         default: rays.push_back({o, 1.0f, d, 1.0f}); break;        // a single point
         }
     }
+    if (scene.has_shapes()) add_shape_rays(scene, share, rng, rays);
     // The rest: fully random.
     while (rays.size() < count) rays.push_back({random_point(rng, lo, hi), 0.0f, random_dir(), kInfinity});
     return rays;

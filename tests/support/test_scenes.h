@@ -9,8 +9,14 @@
 namespace thicket::testing {
 
 /// Generated scenes that break naive structures: empty, one triangle, zero-area and duplicate
-/// triangles, coplanar overlaps, all centroids equal, huge and tiny coordinates, a closed mesh.
+/// triangles, coplanar overlaps, all centroids equal, huge and tiny coordinates, a closed mesh,
+/// triangles mixed with shapes (mixed_scene()). The last one is the random soup.
 std::vector<Scene> nasty_scenes();
+
+/// Triangles, spheres and tori with interleaved ids: overlapping, touching and coincident shapes,
+/// a sphere in a torus's hole, tiny ones (1e-4) and a huge one (radius 1e4) that holds most ray
+/// origins inside it.
+Scene mixed_scene();
 
 /// Directory of the shared real scenes, or "" when ../shared/scenes is absent.
 std::string shared_scene_dir();
@@ -24,7 +30,9 @@ const Scene& cached_scene(const std::string& path);
 
 /// The rays every structure must answer like brute force on `scene`: random, aimed at
 /// vertices and edge midpoints, axis-parallel with +-0 components, starting on surfaces, and
-/// with narrow [tmin, tmax] windows around and beside the true hit. Deterministic per seed.
+/// with narrow [tmin, tmax] windows around and beside the true hit. With shapes, also rays
+/// aimed at each shape from near it, grazing its silhouette, starting on it, and windowed around
+/// its hits. Deterministic per seed.
 std::vector<Ray> conformance_rays(const Scene& scene, size_t count, uint32_t seed = 1);
 
 }  // namespace thicket::testing

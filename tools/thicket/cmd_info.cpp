@@ -1,5 +1,7 @@
 // `thicket info` (scene and structure statistics) and `thicket accels` (the registry's listing).
 #include <cstdio>
+#include <string>
+#include <vector>
 
 #include "common.h"
 #include "thicket/util/progress.h"
@@ -17,15 +19,30 @@ struct InfoArgs {
 void print_scene(const Scene& scene) {
     const TriangleMesh& m = scene.mesh;
     size_t zero_area = 0;
-    for (size_t i = 0; i < scene.primitive_count(); ++i) {
-        const Vec3 n = scene.geometric_normal(uint32_t(i));
+    for (size_t t = 0; t < m.triangle_count(); ++t) {
+        const Vec3 a = m.vertex(t, 0), n = cross(m.vertex(t, 1) - a, m.vertex(t, 2) - a);
         zero_area += n.x == 0.0f && n.y == 0.0f && n.z == 0.0f;
     }
     const Aabb b = scene.bounds();
     std::printf("\nscene %s\n", scene.name.c_str());
-    std::printf("  triangles            %zu\n", scene.primitive_count());
+    std::printf("  triangles            %zu\n", m.triangle_count());
     std::printf("  vertices             %zu\n", m.positions.size());
     std::printf("  zero-area triangles  %zu\n", zero_area);
+    if (scene.has_shapes()) {
+        // Per type, in the order of the Shape variant.
+        std::vector<size_t> count(std::variant_size_v<Shape>, 0);
+        std::vector<const char*> name(count.size(), "");
+        for (const Shape& s : scene.shapes) {
+            ++count[s.index()];
+            name[s.index()] = shape_name(s);
+        }
+        std::string kinds;
+        for (size_t k = 0; k < count.size(); ++k)
+            if (count[k]) kinds += (kinds.empty() ? "" : ", ") + std::to_string(count[k]) + " " + name[k];
+        std::printf("  shapes               %zu (%s)\n", scene.shapes.size(), kinds.c_str());
+        std::printf("  primitives           %zu (ids in file order: triangles and shapes interleaved)\n",
+                    scene.primitive_count());
+    }
     if (b.empty()) {
         std::printf("  bounds               empty\n");
     } else {

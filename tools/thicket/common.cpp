@@ -8,7 +8,8 @@
 namespace thicket::cli {
 
 std::string scene_help() {
-    return std::string("scene to load: a .ply, .obj, .gltf or .glb file, or a built-in scene (") +
+    return std::string("scene to load: a .ply, .obj, .gltf or .glb file, a .json scene of meshes, spheres and tori "
+                       "(docs/shapes.md), or a built-in scene (") +
            builtin_scene_names() + ")";
 }
 
@@ -63,8 +64,10 @@ std::string format_bytes(double bytes) {
 Scene load_scene_verbose(const std::string& path) {
     const auto start = std::chrono::steady_clock::now();
     Scene scene = load_scene(path);
-    std::printf("scene   %s: %zu triangles, %zu vertices, loaded in %s\n", scene.name.c_str(),
-                scene.primitive_count(), scene.mesh.positions.size(), format_duration(ms_since(start) / 1000).c_str());
+    const std::string shapes = scene.has_shapes() ? ", " + std::to_string(scene.shapes.size()) + " shapes" : "";
+    std::printf("scene   %s: %zu triangles%s, %zu vertices, loaded in %s\n", scene.name.c_str(),
+                scene.mesh.triangle_count(), shapes.c_str(), scene.mesh.positions.size(),
+                format_duration(ms_since(start) / 1000).c_str());
     return scene;
 }
 

@@ -1,11 +1,13 @@
 #pragma once
 /// Chooses the primitive set a structure is instantiated with, from the scene and the spec's
 /// `isect` option. Structures are class templates over a PrimitiveSet; this is where a scene's
-/// content picks the instantiation (triangles get their fast path).
+/// content picks the instantiation: triangle-only scenes get the Triangles fast path, scenes with
+/// shapes the mixed set (triangles and shapes behind one id space).
 #include <memory>
 #include <utility>
 
 #include "thicket/accel/registry.h"
+#include "thicket/prims/mixed.h"
 #include "thicket/prims/triangles.h"
 
 namespace thicket {
@@ -13,8 +15,12 @@ namespace thicket {
 /// Calls make(prims) with the primitive set matching `spec` for `scene`, returns its result.
 template <class Make>
 std::unique_ptr<Accel> with_primitives(const Scene& scene, const AccelSpec& spec, Make&& make) {
-    if (spec.get("isect") == "watertight")
-        return make(Triangles<TriangleTest::Watertight>(scene.mesh));
+    const bool watertight = spec.get("isect") == "watertight";
+    if (scene.has_shapes()) {
+        if (watertight) return make(MixedPrimitives<TriangleTest::Watertight>(scene));
+        return make(MixedPrimitives<TriangleTest::Moller>(scene));
+    }
+    if (watertight) return make(Triangles<TriangleTest::Watertight>(scene.mesh));
     return make(Triangles<TriangleTest::Moller>(scene.mesh));
 }
 

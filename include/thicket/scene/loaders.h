@@ -1,9 +1,10 @@
 #pragma once
 /// Format-specific loaders behind load_scene(). Each appends to nothing: it returns a fresh mesh
-/// or throws thicket::Error("<path>: <what is wrong>").
+/// (or scene) or throws thicket::Error("<path>: <what is wrong>").
 #include <string>
 
 #include "thicket/scene/mesh.h"
+#include "thicket/scene/scene.h"
 
 namespace thicket {
 
@@ -11,5 +12,10 @@ TriangleMesh load_ply(const std::string& path);
 TriangleMesh load_obj(const std::string& path);
 TriangleMesh load_gltf(const std::string& path);  ///< .gltf or .glb; node transforms applied
 TriangleMesh builtin_cornell_box();
+
+/// A mesh file of any mesh format above, chosen by its extension (case-insensitive).
+TriangleMesh load_mesh(const std::string& path);
+/// A JSON scene of meshes and shapes (docs/shapes.md); errors name the shape and field.
+Scene load_json_scene(const std::string& path);
 
 }  // namespace thicket

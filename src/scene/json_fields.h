@@ -1,0 +1,73 @@
+#pragma once
+// Reading one shape object of a JSON scene: typed field accessors whose errors name the file,
+// the shape (index and type) and the field, and the table of shape parsers by "type".
+#include <filesystem>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "thicket/scene/scene.h"
+
+namespace thicket::json_scene {
+
+/// One element of "shapes". Every accessor records its key as known; finish() then rejects any
+/// other key. Accessors throw thicket::Error "<file>: shape <i> (<type>): field '<key>': ...".
+class ShapeFields {
+public:
+    ShapeFields(const nlohmann::json& object, std::string file, size_t index, std::string type,
+                std::filesystem::path base_dir);
+
+    bool has(const char* key);
+    /// A finite number that is also finite as a float.
+    float number(const char* key);
+    /// A number > 0 (and > 0 as a float).
+    float positive(const char* key);
+    /// Three finite numbers.
+    Vec3 vec3(const char* key);
+    /// Three finite numbers, not all zero, normalized (in double, then rounded).
+    Vec3 direction(const char* key);
+    /// Exactly `n` finite numbers, in double.
+    std::vector<double> numbers(const char* key, size_t n);
+    /// A non-empty string.
+    std::string string(const char* key);
+    /// A string naming an existing file, relative paths taken from the scene file's directory.
+    std::string path(const char* key);
+    /// The raw value, for kernels with structured data (it must be present).
+    const nlohmann::json& value(const char* key);
+
+    /// Throws the error for `key`, e.g. fail("minor_radius", "must be less than major_radius (1)").
+    [[noreturn]] void fail(const std::string& key, const std::string& what) const;
+    /// Throws an error about the whole shape (no single field at fault).
+    [[noreturn]] void fail_shape(const std::string& what) const;
+    /// Rejects keys no accessor asked for (other than "type" and the reserved "material").
+    void finish() const;
+
+private:
+    const nlohmann::json& require(const char* key);
+    std::string prefix() const;
+
+    const nlohmann::json& object_;
+    std::string file_;
+    size_t index_;
+    std::string type_;
+    std::filesystem::path base_dir_;
+    std::vector<std::string> known_;
+};
+
+/// A shape "type" and the function that reads its fields and appends it to the scene.
+struct ShapeParser {
+    const char* type;
+    void (*parse)(ShapeFields& fields, Scene& scene);
+};
+
+/// Every shape type the JSON format knows, in documentation order (json_shapes.cpp).
+std::span<const ShapeParser> shape_parsers();
+
+/// A JSON value for an error message, shortened.
+std::string describe(const nlohmann::json& v);
+/// A number for an error message (%g).
+std::string format_number(double x);
+
+}  // namespace thicket::json_scene

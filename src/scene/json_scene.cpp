@@ -1,0 +1,261 @@
+// The JSON scene format (docs/shapes.md): the file, its top-level keys, and the typed field
+// accessors every shape parser uses. The shape types themselves are in json_shapes.cpp.
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <set>
+#include <sstream>
+
+#include "json_fields.h"
+#include "thicket/core/error.h"
+#include "thicket/scene/loaders.h"
+
+namespace thicket {
+
+namespace json_scene {
+
+using nlohmann::json;
+
+namespace {
+
+/// Top-level keys the renderer will define: accepted and ignored until then.
+constexpr const char* kReservedTopLevel[] = {"camera", "materials", "lights"};
+/// Shape keys reserved the same way.
+constexpr const char* kReservedShapeKey = "material";
+
+std::string type_list() {
+    std::string out;
+    for (const ShapeParser& p : shape_parsers()) out += (out.empty() ? "" : ", ") + std::string(p.type);
+    return out;
+}
+
+const char* kind_of(const json& v) {
+    switch (v.type()) {
+        case json::value_t::null: return "null";
+        case json::value_t::boolean: return "a boolean";
+        case json::value_t::string: return "a string";
+        case json::value_t::array: return "an array";
+        case json::value_t::object: return "an object";
+        default: return "a number";
+    }
+}
+
+bool is_float_finite(double x) {
+    return std::isfinite(x) && std::fabs(x) <= double(std::numeric_limits<float>::max());
+}
+
+}  // namespace
+
+std::string format_number(double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", x);
+    return buf;
+}
+
+std::string describe(const json& v) {
+    std::string s = v.dump();
+    if (s.size() > 40) s = s.substr(0, 37) + "...";
+    return s;
+}
+
+ShapeFields::ShapeFields(const json& object, std::string file, size_t index, std::string type,
+                         std::filesystem::path base_dir)
+    : object_(object), file_(std::move(file)), index_(index), type_(std::move(type)), base_dir_(std::move(base_dir)) {}
+
+std::string ShapeFields::prefix() const {
+    return file_ + ": shape " + std::to_string(index_) + " (" + type_ + ")";
+}
+
+void ShapeFields::fail(const std::string& key, const std::string& what) const {
+    throw Error(prefix() + ": field '" + key + "': " + what);
+}
+
+void ShapeFields::fail_shape(const std::string& what) const { throw Error(prefix() + ": " + what); }
+
+bool ShapeFields::has(const char* key) {
+    known_.push_back(key);
+    return object_.contains(key);
+}
+
+const json& ShapeFields::require(const char* key) {
+    if (!has(key)) {
+        std::string given;
+        for (const auto& [k, v] : object_.items()) given += (given.empty() ? "" : ", ") + k;
+        fail(key, "missing (fields given: " + given + ")");
+    }
+    return object_.at(key);
+}
+
+const json& ShapeFields::value(const char* key) { return require(key); }
+
+float ShapeFields::number(const char* key) {
+    const json& v = require(key);
+    if (!v.is_number()) fail(key, std::string("must be a number, got ") + kind_of(v) + " " + describe(v));
+    const double x = v.get<double>();
+    if (!is_float_finite(x)) fail(key, "must be a finite number within the float range, got " + describe(v));
+    return float(x);
+}
+
+float ShapeFields::positive(const char* key) {
+    const float x = number(key);
+    if (!(x > 0.0f)) fail(key, "must be a positive number, got " + describe(object_.at(key)));
+    return x;
+}
+
+std::vector<double> ShapeFields::numbers(const char* key, size_t n) {
+    const json& v = require(key);
+    if (!v.is_array() || v.size() != n)
+        fail(key, "must be an array of " + std::to_string(n) + " numbers, got " +
+                      (v.is_array() ? "an array of " + std::to_string(v.size()) : std::string(kind_of(v))) + " " +
+                      describe(v));
+    std::vector<double> out;
+    for (size_t i = 0; i < n; ++i) {
+        if (!v[i].is_number())
+            fail(key, "element " + std::to_string(i) + " must be a number, got " + kind_of(v[i]) + " " + describe(v[i]));
+        out.push_back(v[i].get<double>());
+        if (!is_float_finite(out.back()))
+            fail(key, "element " + std::to_string(i) + " must be a finite number within the float range, got " +
+                          describe(v[i]));
+    }
+    return out;
+}
+
+Vec3 ShapeFields::vec3(const char* key) {
+    const std::vector<double> v = numbers(key, 3);
+    return {float(v[0]), float(v[1]), float(v[2])};
+}
+
+Vec3 ShapeFields::direction(const char* key) {
+    const std::vector<double> v = numbers(key, 3);
+    const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (!(len > 0.0) || !std::isfinite(len)) fail(key, "must be a non-zero direction, got " + describe(object_.at(key)));
+    return {float(v[0] / len), float(v[1] / len), float(v[2] / len)};
+}
+
+std::string ShapeFields::string(const char* key) {
+    const json& v = require(key);
+    if (!v.is_string() || v.get<std::string>().empty())
+        fail(key, std::string("must be a non-empty string, got ") + kind_of(v) + " " + describe(v));
+    return v.get<std::string>();
+}
+
+std::string ShapeFields::path(const char* key) {
+    const std::filesystem::path p(string(key));
+    const std::filesystem::path full = p.is_absolute() ? p : base_dir_ / p;
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(full, ec)) fail(key, "no such file: " + full.string());
+    return full.string();
+}
+
+void ShapeFields::finish() const {
+    for (const auto& [k, v] : object_.items()) {
+        if (k == "type" || k == kReservedShapeKey) continue;
+        bool ok = false;
+        for (const std::string& known : known_) ok = ok || known == k;
+        if (ok) continue;
+        std::string allowed;
+        for (const std::string& known : known_)
+            if (allowed.find("'" + known + "'") == std::string::npos) allowed += (allowed.empty() ? "" : ", ") + ("'" + known + "'");
+        fail(k, "unknown field for a " + type_ + " (its fields: " + allowed + ", and the reserved 'material')");
+    }
+}
+
+namespace {
+
+/// Parses the text, refusing duplicate keys (nlohmann would keep the last one silently); the
+/// message names the shape when the duplicate is inside one.
+json parse_checked(const std::string& text, const std::string& file) {
+    std::vector<std::set<std::string>> keys;  // one set per open object
+    std::string top_key;
+    long shape = -1;
+    json::parser_callback_t callback = [&](int depth, json::parse_event_t event, json& parsed) {
+        switch (event) {
+            case json::parse_event_t::object_start:
+                keys.emplace_back();
+                if (depth == 2 && top_key == "shapes") ++shape;
+                break;
+            case json::parse_event_t::object_end: keys.pop_back(); break;
+            case json::parse_event_t::key: {
+                const std::string k = parsed.get<std::string>();
+                if (depth == 1) top_key = k;
+                if (!keys.empty() && !keys.back().insert(k).second) {
+                    const std::string where =
+                        depth == 1 ? "top-level key" : (top_key == "shapes" && shape >= 0 && depth >= 3
+                                                            ? "shape " + std::to_string(shape) + ": field"
+                                                            : "key");
+                    throw Error(file + ": " + where + " '" + k + "' given twice");
+                }
+                break;
+            }
+            default: break;
+        }
+        return true;
+    };
+    try {
+        return json::parse(text, callback);
+    } catch (const json::exception& e) {
+        std::string what = e.what();
+        const size_t close = what.find("] ");  // drop nlohmann's "[json.exception.parse_error.101] "
+        if (close != std::string::npos) what = what.substr(close + 2);
+        throw Error(file + ": invalid JSON: " + what);
+    }
+}
+
+}  // namespace
+
+}  // namespace json_scene
+
+Scene load_json_scene(const std::string& path) {
+    using namespace json_scene;
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(path + ": cannot open");
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (in.bad()) throw Error(path + ": read error");
+    const json doc = parse_checked(text.str(), path);
+
+    if (!doc.is_object()) throw Error(path + ": a JSON scene must be an object with a \"shapes\" array");
+    for (const auto& [key, v] : doc.items()) {
+        bool ok = key == "shapes";
+        for (const char* r : kReservedTopLevel) ok = ok || key == r;
+        if (!ok)
+            throw Error(path + ": unknown top-level key '" + key +
+                        "' (allowed: 'shapes', and 'camera', 'materials', 'lights', reserved for the renderer)");
+    }
+    if (!doc.contains("shapes")) throw Error(path + ": missing top-level key 'shapes' (an array of shapes)");
+    const json& shapes = doc.at("shapes");
+    if (!shapes.is_array()) throw Error(path + ": 'shapes' must be an array, got " + describe(shapes));
+
+    Scene scene;
+    scene.name = path;
+    const std::filesystem::path base = std::filesystem::path(path).parent_path();
+    for (size_t i = 0; i < shapes.size(); ++i) {
+        const json& s = shapes[i];
+        const std::string at = path + ": shape " + std::to_string(i);
+        if (!s.is_object()) throw Error(at + ": must be an object, got " + describe(s));
+        if (!s.contains("type")) throw Error(at + ": missing field 'type' (one of: " + type_list() + ")");
+        if (!s.at("type").is_string())
+            throw Error(at + ": field 'type' must be a string (one of: " + type_list() + "), got " + describe(s.at("type")));
+        const std::string type = s.at("type").get<std::string>();
+        const ShapeParser* parser = nullptr;
+        for (const ShapeParser& p : shape_parsers())
+            if (type == p.type) parser = &p;
+        if (!parser) throw Error(at + ": unknown type '" + type + "' (known types: " + type_list() + ")");
+
+        ShapeFields fields(s, path, i, type, base);
+        const size_t shapes_before = scene.shapes.size();
+        parser->parse(fields, scene);
+        fields.finish();
+        for (size_t k = shapes_before; k < scene.shapes.size(); ++k) {
+            const Aabb b = shape_bounds(scene.shapes[k]);
+            for (int a = 0; a < 3; ++a)
+                if (!std::isfinite(b.min[a]) || !std::isfinite(b.max[a]))
+                    fields.fail_shape("its bounds exceed the float range (" + format_number(b.min[a]) + " .. " +
+                                      format_number(b.max[a]) + " on axis " + std::to_string(a) + ")");
+        }
+    }
+    return scene;
+}
+
+}  // namespace thicket
