@@ -59,13 +59,24 @@ BlobsLineEval::BlobsLineEval(const BlobSum& sum, const Line3d& line) : threshold
         const double r2 = b.radius * b.radius;
         // A blob the line passes farther than R from contributes 0 everywhere on it.
         if (dist.h2.lo > r2) continue;
-        terms_.push_back({dist, 1.0 / r2, b.weight});
+        const Term term{dist, 1.0 / r2, b.weight};
+        if (count_ < kInline) {
+            inline_[count_] = term;
+        } else {
+            if (overflow_.empty()) overflow_.assign(inline_.begin(), inline_.end());
+            overflow_.push_back(term);
+        }
+        ++count_;
     }
 }
 
 Interval BlobsLineEval::value(const Interval& t) const {
     Interval sum(0.0);
-    for (const Term& term : terms_) sum += term.weight * sqr(max0(1.0 - term.dist.eval(t) * term.inv_r2));
+    const Term* terms = this->terms();
+    for (size_t i = 0; i < count_; ++i) {
+        const Term& term = terms[i];
+        sum += term.weight * sqr(max0(1.0 - term.dist.eval(t) * term.inv_r2));
+    }
     return threshold_ - sum;
 }
 
@@ -73,7 +84,9 @@ Interval BlobsLineEval::slope(const Interval& t) const {
     // d/dt [-w max(0, 1 - s/R^2)^2] = w 4 max(0, 1 - s/R^2) a (t - t*) / R^2 for s = a (t - t*)^2 + h^2
     // (both sides 0 where the clamp is active).
     Interval sum(0.0);
-    for (const Term& term : terms_) {
+    const Term* terms = this->terms();
+    for (size_t i = 0; i < count_; ++i) {
+        const Term& term = terms[i];
         const Interval m = max0(1.0 - term.dist.eval(t) * term.inv_r2);
         sum += (4.0 * term.weight * term.inv_r2) * m * (term.dist.a * (t - term.dist.tstar));
     }
@@ -82,7 +95,11 @@ Interval BlobsLineEval::slope(const Interval& t) const {
 
 double BlobsLineEval::value(double t) const {
     double sum = 0.0;
-    for (const Term& term : terms_) sum += term.weight * sqr(max0(1.0 - term.dist.eval(t) * term.inv_r2));
+    const Term* terms = this->terms();
+    for (size_t i = 0; i < count_; ++i) {
+        const Term& term = terms[i];
+        sum += term.weight * sqr(max0(1.0 - term.dist.eval(t) * term.inv_r2));
+    }
     return threshold_ - sum;
 }
 

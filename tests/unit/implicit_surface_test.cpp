@@ -135,6 +135,10 @@ TEST(ImplicitKernel, IntervalExtensionsEncloseSampledValuesAndSlopes) {
     check(BarthSextic{1.0}, generic);
     check(four_blobs(), generic);
     check(four_blobs(), [](const BlobSum& s, const Line3d& l) { return BlobsLineEval(s, l); });
+    BlobSum many;  // more blobs than BlobsLineEval keeps inline
+    many.threshold = 0.6;
+    for (int i = 0; i < 12; ++i) many.blobs.push_back({{0.1 * i - 0.6, 0.05 * (i % 3), -0.04 * (i % 4)}, 1.0, 0.3});
+    check(many, [](const BlobSum& s, const Line3d& l) { return BlobsLineEval(s, l); });
 }
 
 TEST(ImplicitKernel, TangleCubeBoundsContainTheSurface) {

@@ -188,14 +188,21 @@ public:
     Interval value(const Interval& t) const;
     Interval slope(const Interval& t) const;
     double value(double t) const;
-    size_t active() const { return terms_.size(); }
+    size_t active() const { return count_; }
 
 private:
     struct Term {
         LineDistance2 dist;
-        double inv_r2, weight;
+        double inv_r2 = 0.0, weight = 0.0;
     };
-    std::vector<Term> terms_;
+    /// Terms live in the object itself up to kInline (no allocation per ray test), in
+    /// overflow_ beyond.
+    static constexpr size_t kInline = 8;
+    const Term* terms() const { return overflow_.empty() ? inline_.data() : overflow_.data(); }
+
+    std::array<Term, kInline> inline_{};
+    std::vector<Term> overflow_;
+    size_t count_ = 0;
     double threshold_;
 };
 
