@@ -3,6 +3,7 @@
 /// the part of a triangle inside a voxel, which "perfect split" kD-trees and BSP fragments need.
 #include <array>
 #include <cmath>
+#include <utility>
 
 #include "thicket/core/aabb.h"
 
@@ -13,11 +14,20 @@ namespace thicket {
 /// from the box do not lose the clipped corner to rounding; the result is widened to enclose it
 /// in float and intersected with `box`.
 inline Aabb clip_triangle_to_box(Vec3 a, Vec3 b, Vec3 c, const Aabb& box) {
+    Aabb whole;
+    whole.grow(a);
+    whole.grow(b);
+    whole.grow(c);
+    // Common case in deep trees: nothing to clip (or nothing left).
+    if (box.contains(whole.min) && box.contains(whole.max)) return whole;
+    if (intersection(whole, box).empty()) return Aabb{};
     struct P {
         double v[3];
     };
     // A triangle clipped by 6 planes has at most 3 + 6 vertices.
-    std::array<P, 12> poly{}, next{};
+    std::array<P, 12> buffers[2];
+    P* poly = buffers[0].data();
+    P* next = buffers[1].data();  // ping-pong: no copy per plane
     int n = 3;
     poly[0] = {{a.x, a.y, a.z}};
     poly[1] = {{b.x, b.y, b.z}};
@@ -41,7 +51,7 @@ inline Aabb clip_triangle_to_box(Vec3 a, Vec3 b, Vec3 c, const Aabb& box) {
                 }
             }
             n = m;
-            poly = next;
+            std::swap(poly, next);
         }
     }
     if (n == 0) return Aabb{};
