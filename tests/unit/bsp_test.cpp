@@ -194,6 +194,7 @@ TEST(BspFragments, SplinterStatisticsMatchTheFragments) {
     for (int c : count) split += c > 1 ? 1 : 0;
     EXPECT_EQ(s.split_triangles, split);
     EXPECT_EQ(s.pieces, pieces);
+    EXPECT_EQ(s.measured_pieces, pieces) << "the soup has no zero-area triangle";
     EXPECT_EQ(s.slivers, slivers);
     EXPECT_NEAR(s.smallest_area, smallest, 1e-12 * smallest + 1e-300);
     EXPECT_NEAR(s.smallest_ratio, smallest_ratio, 1e-9);
