@@ -17,8 +17,13 @@ namespace thicket {
 namespace bsp_build {
 namespace {
 
-/// Fragments scored per candidate plane: larger nodes are scored on an evenly spaced sample.
-constexpr size_t kScoreSample = 512;
+/// Fragments each candidate plane is scored on: a node's own when it has at most
+/// kScoreSampleMin, else an evenly spaced sample of 1/kScoreShare of them within
+/// [kScoreSampleMin, kScoreSampleMax]. The top of the tree, which decides most of its quality,
+/// is scored on the largest samples; below, small samples choose about as well.
+constexpr size_t kScoreSampleMin = 64, kScoreSampleMax = 512, kScoreShare = 16;
+/// Small nodes try fewer planes: at most a quarter of their fragments' planes, at least this many.
+constexpr size_t kSmallNodeCandidates = 4;
 /// Candidates partitioned in full before a node gives up and becomes a leaf (a sampled score can
 /// promise a separation or a fragment count that the whole node does not deliver).
 constexpr int kPartitionTries = 4;
@@ -87,7 +92,8 @@ private:
 
     /// Fills the scratch sample for `set` (the scratch keeps its capacity from node to node).
     Sample& take_sample(const Set& set) const {
-        const size_t n = set.size(), m = std::min(n, kScoreSample);
+        const size_t n = set.size();
+        const size_t m = std::min(n, std::clamp(n / kScoreShare, kScoreSampleMin, kScoreSampleMax));
         Sample& s = sample_;
         s.index.resize(m);
         s.start.assign(m + 1, 0);
@@ -120,7 +126,8 @@ private:
     /// the median of the sample's box centres.
     std::vector<BspPlane> propose(const Set& set, const Aabb& cell, const Sample& sample, Source source) const {
         std::vector<BspPlane> planes;
-        const size_t n = set.size(), k = std::min<size_t>(n, size_t(options_.candidates));
+        const size_t n = set.size();
+        const size_t k = std::min({n, size_t(options_.candidates), std::max(kSmallNodeCandidates, n / 4)});
         if (source == Source::Axis) {
             std::vector<float> centre(sample.size());
             for (int a = 0; a < 3; ++a) {
@@ -291,13 +298,16 @@ private:
             out_.refs.push_back(prim);
             ++pieces_[prim];
             if (frags_.is_piece(set, i)) {
-                const double area = frags_.area(set, i);
-                const double whole = frags_.prim_area(prim);
-                if (s.pieces == 0 || area < s.smallest_area) s.smallest_area = area;
-                const double ratio = whole > 0.0 ? area / whole : 1.0;
-                if (s.pieces == 0 || ratio < s.smallest_ratio) s.smallest_ratio = ratio;
-                s.slivers += ratio < kBspSliverRatio ? 1 : 0;
                 ++s.pieces;
+                // Pieces of zero-area triangles have no size to speak of: left out of the figures.
+                const double whole = frags_.prim_area(prim);
+                if (whole > 0.0) {
+                    const double area = frags_.area(set, i), ratio = area / whole;
+                    if (s.measured_pieces == 0 || area < s.smallest_area) s.smallest_area = area;
+                    if (s.measured_pieces == 0 || ratio < s.smallest_ratio) s.smallest_ratio = ratio;
+                    s.slivers += ratio < kBspSliverRatio ? 1 : 0;
+                    ++s.measured_pieces;
+                }
             }
             if (keep_) {
                 BspFragment f;

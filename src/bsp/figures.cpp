@@ -1,7 +1,6 @@
 // Cell boxes and the figures of a built BSP tree.
 #include <algorithm>
 #include <cmath>
-#include <utility>
 #include <vector>
 
 #include "fragments.h"
@@ -13,52 +12,37 @@ namespace thicket {
 void bsp_cut_box(const Aabb& box, const BspPlane& plane, Aabb& back, Aabb& front) {
     back = front = Aabb{};
     if (box.empty()) return;
-    const Vec3& n = plane.normal;
-    const int axis = n.y == 0.0f && n.z == 0.0f ? 0 : (n.x == 0.0f && n.z == 0.0f ? 1 : (n.x == 0.0f && n.y == 0.0f ? 2 : -1));
-    if (axis >= 0 && n[axis] != 0.0f) {
-        // Axis-aligned: the cut is exact in float.
-        const float at = plane.offset / n[axis];
-        Aabb lo = box, hi = box;
-        lo.max[axis] = std::min(lo.max[axis], at);
-        hi.min[axis] = std::max(hi.min[axis], at);
-        if (n[axis] < 0.0f) std::swap(lo, hi);
-        back = lo.empty() ? Aabb{} : lo;
-        front = hi.empty() ? Aabb{} : hi;
-        return;
+    // The part of a box on one side of a plane projects onto each axis exactly: along axis a,
+    // n_a x_a is bounded by the offset minus the least (back side) or greatest (front side)
+    // that the other two terms n_b x_b can contribute within the box.
+    double n[3], lo[3], hi[3], least = 0.0, most = 0.0;
+    for (int a = 0; a < 3; ++a) {
+        n[a] = double(plane.normal[a]);
+        lo[a] = std::min(n[a] * double(box.min[a]), n[a] * double(box.max[a]));
+        hi[a] = std::max(n[a] * double(box.min[a]), n[a] * double(box.max[a]));
+        least += lo[a];
+        most += hi[a];
     }
-    using bsp_build::P3;
-    P3 corner[8];
-    double dist[8];
-    for (int c = 0; c < 8; ++c) {
-        corner[c] = {double((c & 1) ? box.max.x : box.min.x), double((c & 2) ? box.max.y : box.min.y),
-                     double((c & 4) ? box.max.z : box.min.z)};
-        dist[c] = bsp_build::plane_distance(plane, corner[c]);
-    }
-    // Bounds of each side: its corners, and where the box's 12 edges cross the plane.
-    P3 ends[2][2] = {{{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}},
-                     {{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}}};
-    auto grow = [&](int side, const P3& p) {
+    const double d = double(plane.offset);
+    for (int side = 0; side < 2; ++side) {
+        // Back: n.x <= d, reachable iff least <= d; front: n.x >= d, iff most >= d.
+        if (side == 0 ? least > d : most < d) continue;
+        double bmin[3], bmax[3];
         for (int a = 0; a < 3; ++a) {
-            ends[side][0][a] = std::min(ends[side][0][a], p[a]);
-            ends[side][1][a] = std::max(ends[side][1][a], p[a]);
+            bmin[a] = box.min[a];
+            bmax[a] = box.max[a];
+            if (n[a] == 0.0) continue;
+            const double bound = (d - (side == 0 ? least - lo[a] : most - hi[a])) / n[a];
+            // Back with n_a > 0 and front with n_a < 0 bound x_a from above; the others from below.
+            if ((side == 0) == (n[a] > 0.0))
+                bmax[a] = std::min(bmax[a], bound);
+            else
+                bmin[a] = std::max(bmin[a], bound);
         }
-    };
-    for (int c = 0; c < 8; ++c) {
-        if (dist[c] <= 0.0) grow(0, corner[c]);
-        if (dist[c] >= 0.0) grow(1, corner[c]);
-        for (int a = 0; a < 3; ++a) {
-            const int d = c | (1 << a);
-            if (d == c || !((dist[c] < 0.0 && dist[d] > 0.0) || (dist[c] > 0.0 && dist[d] < 0.0))) continue;
-            const double s = dist[c] / (dist[c] - dist[d]);
-            P3 q;
-            for (int k = 0; k < 3; ++k) q[k] = corner[c][k] + s * (corner[d][k] - corner[c][k]);
-            grow(0, q);
-            grow(1, q);
-        }
+        // To nearest: cell boxes serve cost estimates and figures, never correctness.
+        const bsp_build::P3 ends[2] = {{bmin[0], bmin[1], bmin[2]}, {bmax[0], bmax[1], bmax[2]}};
+        (side == 0 ? back : front) = intersection(bsp_build::points_box(ends, 2), box);
     }
-    // To nearest: cell boxes serve cost estimates and figures, never correctness.
-    if (ends[0][0][0] <= ends[0][1][0]) back = intersection(bsp_build::points_box(ends[0], 2), box);
-    if (ends[1][0][0] <= ends[1][1][0]) front = intersection(bsp_build::points_box(ends[1], 2), box);
 }
 
 Aabb bsp_cut_box(const Aabb& box, const BspPlane& plane, bool front) {

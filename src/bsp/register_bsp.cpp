@@ -54,6 +54,12 @@ void register_bsp(std::vector<AccelInfo>& registry) {
             return std::make_unique<Bsp<decltype(prims)>>(std::move(prims), build_options(spec));
         });
     };
+    info.load = [](std::istream& in, const Scene& scene, const AccelSpec& spec) {
+        BspData data = read_bsp(in, scene.primitive_count());
+        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
+            return std::make_unique<Bsp<decltype(prims)>>(std::move(prims), std::move(data));
+        });
+    };
     registry.push_back(std::move(info));
 }
 

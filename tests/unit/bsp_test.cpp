@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <random>
+#include <sstream>
 
 #include "support/test_scenes.h"
 #include "thicket/accel/registry.h"
@@ -194,6 +195,7 @@ TEST(BspFragments, SplinterStatisticsMatchTheFragments) {
     for (int c : count) split += c > 1 ? 1 : 0;
     EXPECT_EQ(s.split_triangles, split);
     EXPECT_EQ(s.pieces, pieces);
+    EXPECT_EQ(s.measured_pieces, pieces) << "the soup has no zero-area triangle";
     EXPECT_EQ(s.slivers, slivers);
     EXPECT_NEAR(s.smallest_area, smallest, 1e-12 * smallest + 1e-300);
     EXPECT_NEAR(s.smallest_ratio, smallest_ratio, 1e-9);
@@ -429,6 +431,56 @@ TEST(BspTraversal, CountsEachPrimitiveOnceAndCountingChangesNothing) {
             EXPECT_GE(c.nodes, 1u);
         }
     }
+}
+
+TEST(BspIo, RoundTripAndCorruptPayloadsAreRefused) {
+    const Scene scene = nasty("soup");
+    const Bsp<Triangles<>> bsp(Triangles<>(scene.mesh), BspBuildOptions{});
+    std::ostringstream out;
+    bsp.save(out);
+    {
+        std::istringstream in(out.str());
+        const Bsp<Triangles<>> loaded(Triangles<>(scene.mesh), read_bsp(in, scene.primitive_count()));
+        EXPECT_EQ(loaded.data().nodes.size(), bsp.data().nodes.size());
+        EXPECT_EQ(loaded.data().refs, bsp.data().refs);
+        EXPECT_EQ(loaded.stats().extra, bsp.stats().extra);
+        for (const Ray& r : testing::conformance_rays(scene, 300, 4)) EXPECT_EQ(loaded.intersect(r).prim, bsp.intersect(r).prim);
+    }
+    auto refused = [&](const std::string& payload, size_t prims, const std::string& needle) {
+        std::istringstream in(payload);
+        try {
+            read_bsp(in, prims);
+            ADD_FAILURE() << "accepted a payload that should say: " << needle;
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+        }
+    };
+    const std::string good = out.str();
+    refused(good.substr(0, good.size() / 2), scene.primitive_count(), "truncated");
+    refused(good + "x", scene.primitive_count(), "trailing");
+    refused(good, 10, "reference to primitive");
+    // Edit the tree in memory and check validate_bsp names each defect.
+    auto broken = [&](auto edit, const std::string& needle) {
+        BspData d = bsp.data();
+        edit(d);
+        try {
+            validate_bsp(d, scene.primitive_count());
+            ADD_FAILURE() << "validate_bsp accepted: " << needle;
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+        }
+    };
+    ASSERT_FALSE(bsp.data().nodes[0].is_leaf());
+    broken([](BspData& d) { d.nodes[0].index = 0; }, "children out of range");
+    broken([](BspData& d) { d.nodes[0].index = uint32_t(d.nodes.size() - 1); }, "children out of range");
+    broken([](BspData& d) { d.nodes[0].plane.normal = Vec3(2, 0, 0); }, "no unit plane");
+    broken([](BspData& d) { d.nodes[0].plane.offset = NAN; }, "no unit plane");
+    broken([](BspData& d) { d.refs.push_back(0); }, "leaves cover");
+    broken([](BspData& d) { d.nodes.emplace_back(); }, "unreachable");
+    broken([](BspData& d) {
+        for (BspNode& n : d.nodes)
+            if (n.is_leaf()) n.count = BspNode::kLeafBit | 0x7fffffffu;
+    }, "references out of range");
 }
 
 }  // namespace

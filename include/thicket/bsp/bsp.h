@@ -31,6 +31,11 @@ public:
         }
     }
 
+    /// Adopts an already built (e.g. loaded) tree after checking it fits `prims`.
+    Bsp(Prims prims, BspData data) : prims_(std::move(prims)), data_(std::move(data)) {
+        validate_bsp(data_, prims_.size());
+    }
+
     Aabb bounds() const override { return data_.bounds; }
 
     template <class C>
@@ -80,6 +85,8 @@ public:
                                  std::to_string(sp.unsplittable));
         return s;
     }
+
+    void save(std::ostream& out) const override { write_bsp(out, data_); }
 
     const BspData& data() const { return data_; }
     const Prims& primitives() const { return prims_; }

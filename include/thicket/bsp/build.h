@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <iosfwd>
 #include <span>
 #include <vector>
 
@@ -62,6 +63,15 @@ struct BspFigures {
     double sah_cost = 0.0;
 };
 BspFigures bsp_figures(const BspData& bsp);
+
+/// Checks the structural invariants (references in range, children after parents, depth
+/// bounded, unit planes, every node reachable, leaves tiling the references); throws Error
+/// describing the first violation.
+void validate_bsp(const BspData& bsp, size_t primitive_count);
+
+/// Payload I/O for save_accel/load_accel; read_bsp validates before returning.
+void write_bsp(std::ostream& out, const BspData& bsp);
+BspData read_bsp(std::istream& in, size_t primitive_count);
 
 /// The boxes around the parts of `box` behind and in front of `plane` (closed half-spaces;
 /// empty where nothing of the box is). Rounded to nearest: for cost estimates and figures.

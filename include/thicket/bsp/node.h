@@ -55,9 +55,10 @@ struct BspSplinters {
     uint64_t in_plane = 0;         ///< placements of a fragment lying in the chosen plane
     uint64_t split_triangles = 0;  ///< primitives that ended up in more than one fragment
     uint64_t pieces = 0;           ///< leaf fragments that are pieces of cut triangles
-    double smallest_area = 0.0;    ///< smallest piece area (0 when no piece)
-    double smallest_ratio = 0.0;   ///< smallest piece area / its triangle's area (0 when no piece)
-    uint64_t slivers = 0;          ///< pieces under kBspSliverRatio of their triangle's area
+    uint64_t measured_pieces = 0;  ///< pieces of triangles with nonzero area (the next three figures)
+    double smallest_area = 0.0;    ///< smallest such piece's area (0 when none)
+    double smallest_ratio = 0.0;   ///< smallest such piece's area / its triangle's area (0 when none)
+    uint64_t slivers = 0;          ///< such pieces under kBspSliverRatio of their triangle's area
     uint64_t depth_capped = 0;     ///< leaves made because max-depth was reached
     uint64_t budget_capped = 0;    ///< leaves made because every split would exceed the fragment budget
     uint64_t unsplittable = 0;     ///< leaves over max-leaf where no sampled plane separated anything

@@ -1,0 +1,133 @@
+// BSP payload: the arrays as they are in memory (the tree is relocatable), each preceded by its
+// length, then the root box, the scale and the splinter figures. Reading checks every length
+// against the scene before allocating, then the whole structure (validate_bsp).
+#include <cmath>
+#include <istream>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "thicket/bsp/build.h"
+#include "thicket/core/error.h"
+
+namespace thicket {
+
+namespace {
+
+template <class T>
+void put(std::ostream& out, const T& v) {
+    out.write(reinterpret_cast<const char*>(&v), sizeof(T));
+}
+
+template <class T>
+void get(std::istream& in, T& v, const char* what) {
+    if (!in.read(reinterpret_cast<char*>(&v), sizeof(T))) throw Error(std::string("BSP payload truncated in ") + what);
+}
+
+template <class T>
+void get_array(std::istream& in, T* data, size_t count, const char* what) {
+    if (!in.read(reinterpret_cast<char*>(data), std::streamsize(count * sizeof(T))))
+        throw Error(std::string("BSP payload truncated in ") + what);
+}
+
+/// Most nodes and references a tree over `prims` primitives can have: every fragment is a
+/// reference, fragments are at most kMaxBudget per primitive, and leaves never outnumber
+/// fragments by more than the empty root.
+constexpr uint64_t kMaxBudget = 1024;
+
+}  // namespace
+
+void write_bsp(std::ostream& out, const BspData& bsp) {
+    put(out, uint64_t(bsp.nodes.size()));
+    put(out, uint64_t(bsp.refs.size()));
+    out.write(reinterpret_cast<const char*>(bsp.nodes.data()), std::streamsize(bsp.nodes.size() * sizeof(BspNode)));
+    out.write(reinterpret_cast<const char*>(bsp.refs.data()), std::streamsize(bsp.refs.size() * sizeof(uint32_t)));
+    put(out, bsp.bounds);
+    put(out, bsp.scale);
+    const BspSplinters& f = bsp.splinters;
+    for (uint64_t v : {f.fragments, f.splits, f.dropped, f.in_plane, f.split_triangles, f.pieces, f.measured_pieces,
+                       f.slivers, f.depth_capped, f.budget_capped, f.unsplittable})
+        put(out, v);
+    put(out, f.smallest_area);
+    put(out, f.smallest_ratio);
+    put(out, uint8_t(f.polygons ? 1 : 0));
+}
+
+BspData read_bsp(std::istream& in, size_t primitive_count) {
+    uint64_t nodes = 0, refs = 0;
+    get(in, nodes, "node count");
+    get(in, refs, "reference count");
+    const uint64_t max_refs = kMaxBudget * primitive_count;
+    if (refs > max_refs || nodes > 2 * max_refs + 1)
+        throw Error("BSP payload claims " + std::to_string(nodes) + " nodes and " + std::to_string(refs) +
+                    " references for " + std::to_string(primitive_count) + " primitives");
+    BspData bsp;
+    bsp.nodes.resize(nodes);
+    bsp.refs.resize(refs);
+    get_array(in, bsp.nodes.data(), nodes, "nodes");
+    get_array(in, bsp.refs.data(), refs, "references");
+    get(in, bsp.bounds, "bounds");
+    get(in, bsp.scale, "scale");
+    BspSplinters& f = bsp.splinters;
+    for (uint64_t* v : {&f.fragments, &f.splits, &f.dropped, &f.in_plane, &f.split_triangles, &f.pieces,
+                        &f.measured_pieces, &f.slivers, &f.depth_capped, &f.budget_capped, &f.unsplittable})
+        get(in, *v, "splinter figures");
+    get(in, f.smallest_area, "splinter figures");
+    get(in, f.smallest_ratio, "splinter figures");
+    uint8_t polygons = 0;
+    get(in, polygons, "splinter figures");
+    if (polygons > 1) throw Error("BSP payload: fragment kind " + std::to_string(polygons) + " is neither 0 nor 1");
+    f.polygons = polygons == 1;
+    if (in.peek() != std::char_traits<char>::eof()) throw Error("BSP payload has trailing bytes");
+    validate_bsp(bsp, primitive_count);
+    return bsp;
+}
+
+void validate_bsp(const BspData& bsp, size_t primitive_count) {
+    if (primitive_count == 0) {
+        if (!bsp.nodes.empty() || !bsp.refs.empty()) throw Error("invalid BSP: nodes in a tree over no primitives");
+        return;
+    }
+    if (bsp.nodes.empty()) throw Error("invalid BSP: no root node");
+    if (bsp.nodes.size() >= (uint64_t(1) << 32) || bsp.refs.size() >= (uint64_t(1) << 31))
+        throw Error("invalid BSP: too many nodes or references");
+    if (!(bsp.scale >= 0.0f) || !std::isfinite(bsp.scale)) throw Error("invalid BSP: scale is not finite");
+    for (uint32_t r : bsp.refs)
+        if (r >= primitive_count)
+            throw Error("invalid BSP: reference to primitive " + std::to_string(r) + " of " +
+                        std::to_string(primitive_count));
+    struct Item {
+        uint32_t node, depth;
+    };
+    std::vector<Item> stack{{0, 0}};
+    uint64_t covered = 0, reached = 0;
+    while (!stack.empty()) {
+        const auto [i, depth] = stack.back();
+        stack.pop_back();
+        ++reached;
+        const BspNode& node = bsp.nodes[i];
+        if (depth > kBspMaxDepth) throw Error("invalid BSP: deeper than " + std::to_string(kBspMaxDepth));
+        if (node.is_leaf()) {
+            if (uint64_t(node.index) + node.leaf_size() > bsp.refs.size())
+                throw Error("invalid BSP: leaf " + std::to_string(i) + " references out of range");
+            covered += node.leaf_size();
+        } else {
+            const Vec3& n = node.plane.normal;
+            if (!std::isfinite(n.x) || !std::isfinite(n.y) || !std::isfinite(n.z) ||
+                !std::isfinite(node.plane.offset) || std::fabs(dot(n, n) - 1.0f) > 1e-3f)
+                throw Error("invalid BSP: node " + std::to_string(i) + " has no unit plane");
+            // Children always come after their parent: this rules out cycles.
+            if (node.index <= i || uint64_t(node.index) + 1 >= bsp.nodes.size())
+                throw Error("invalid BSP: node " + std::to_string(i) + " has children out of range");
+            stack.push_back({node.index, depth + 1});
+            stack.push_back({node.index + 1, depth + 1});
+        }
+    }
+    if (reached != bsp.nodes.size())
+        throw Error("invalid BSP: " + std::to_string(bsp.nodes.size() - reached) + " nodes are unreachable");
+    if (covered != bsp.refs.size())
+        throw Error("invalid BSP: leaves cover " + std::to_string(covered) + " of " + std::to_string(bsp.refs.size()) +
+                    " references");
+}
+
+}  // namespace thicket
