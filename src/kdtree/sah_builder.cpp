@@ -137,10 +137,11 @@ private:
                 ++(left ? left_count : right_count);
             }
         }
-        // Splice: events of one-sided primitives keep their order.
+        // Splice: events of one-sided primitives keep their order. At most two events per
+        // primitive and axis: reserving exactly that keeps the lists of waiting nodes small.
         for (int k = 0; k < 3; ++k) {
-            left[k].reserve(ev[k].size());
-            right[k].reserve(ev[k].size());
+            left[k].reserve(2 * size_t(left_count));
+            right[k].reserve(2 * size_t(right_count));
             for (const Event& e : ev[k]) {
                 const Side s = Side(side_[e.prim()]);
                 if (s == kLeft)
@@ -170,13 +171,13 @@ private:
         }
     }
 
-    /// Sorts `extra` and merges it into the sorted `list`.
-    void merge_into(std::vector<Event>& list, std::vector<Event>& extra) {
+    /// Sorts `extra` and merges it into the sorted `list` (into a new array of the exact size).
+    static void merge_into(std::vector<Event>& list, std::vector<Event>& extra) {
         if (extra.empty()) return;
         std::sort(extra.begin(), extra.end());
-        merged_.resize(list.size() + extra.size());
-        std::merge(list.begin(), list.end(), extra.begin(), extra.end(), merged_.begin());
-        list.swap(merged_);
+        std::vector<Event> merged(list.size() + extra.size());
+        std::merge(list.begin(), list.end(), extra.begin(), extra.end(), merged.begin());
+        list.swap(merged);
     }
 
     /// A leaf references each primitive once: at its start or planar event on axis 0.
@@ -193,7 +194,6 @@ private:
     TreeWriter& out_;
     std::vector<uint8_t> side_;
     std::vector<uint32_t> straddling_, leaf_;
-    std::vector<Event> merged_;
 };
 
 }  // namespace
