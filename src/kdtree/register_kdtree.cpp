@@ -30,8 +30,10 @@ void register_kdtree(std::vector<AccelInfo>& registry) {
          "stack: near/far with a stack (Havran's TA_rec_B); restart: kd-restart, no stack (Foley & Sugerman 2005)",
          "stack", {"stack", "restart"}, 0, 0},
     };
+    // Every option value in three variants: the default, restart on the same tree, and the other
+    // builder with the other triangle test.
     info.variants = {"kdtree:builder=sah,traversal=stack", "kdtree:builder=sah,traversal=restart",
-                     "kdtree:builder=median,traversal=stack", "kdtree:builder=sah,traversal=stack,isect=watertight"};
+                     "kdtree:builder=median,traversal=stack,isect=watertight"};
 
     info.build = [](const Scene& scene, const AccelSpec& spec) {
         return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {

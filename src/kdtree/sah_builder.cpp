@@ -93,18 +93,18 @@ private:
         Plane best;
         for (int axis = 0; axis < 3; ++axis) {
             const std::vector<Event>& e = ev[axis];
+            const KdPlanePricer pricer(cost_, voxel, axis);
             uint32_t nl = 0, nr = count;
             for (size_t i = 0, n = e.size(); i < n;) {
                 const float pos = e[i].pos;
-                uint32_t ends = 0, planars = 0, starts = 0;
-                for (; i < n && e[i].pos == pos && e[i].type() == kEnd; ++i) ++ends;
-                for (; i < n && e[i].pos == pos && e[i].type() == kPlanar; ++i) ++planars;
-                for (; i < n && e[i].pos == pos && e[i].type() == kStart; ++i) ++starts;
-                nr -= planars + ends;
+                uint32_t at[3] = {0, 0, 0};  // ends, planars, starts at pos
+                do ++at[e[i++].type()];
+                while (i < n && e[i].pos == pos);
+                nr -= at[kPlanar] + at[kEnd];
                 KdPlaneCost c;
-                if (kd_plane_cost(cost_, voxel, axis, pos, nl, planars, nr, c) && c.cost < best.cost)
+                if (pricer.price(pos, nl, at[kPlanar], nr, c) && c.cost < best.cost)
                     best = {axis, pos, c.planar_left, c.cost};
-                nl += starts + planars;
+                nl += at[kStart] + at[kPlanar];
             }
         }
         return best;
@@ -116,27 +116,32 @@ private:
                       Events& right, uint32_t& left_count, uint32_t& right_count) {
         // Classify by the events on the split axis; a start decides "right only" or "both", the
         // matching end (which comes later) may turn "both" into "left only".
-        for (const Event& e : ev[plane.axis]) {
-            const uint32_t p = e.prim();
-            if (e.type() == kStart)
-                side_[p] = e.pos >= plane.pos ? kRight : kBoth;
-            else if (e.type() == kEnd) {
-                if (e.pos <= plane.pos) side_[p] = kLeft;
-            } else
-                side_[p] = e.pos < plane.pos ? kLeft : (e.pos > plane.pos ? kRight : (plane.planar_left ? kLeft : kRight));
-        }
+        // Counted as they are decided: a start of "both" is counted when its end settles it.
         straddling_.clear();
         for (const Event& e : ev[plane.axis]) {
-            if (e.type() == kEnd) continue;
-            const Side s = Side(side_[e.prim()]);
-            left_count += s == kLeft;
-            right_count += s == kRight;
-            if (s == kBoth) straddling_.push_back(e.prim());
+            const uint32_t p = e.prim();
+            if (e.type() == kStart) {
+                side_[p] = e.pos >= plane.pos ? kRight : kBoth;
+                right_count += e.pos >= plane.pos;
+            } else if (e.type() == kEnd) {
+                if (side_[p] != kBoth) continue;
+                if (e.pos <= plane.pos) {
+                    side_[p] = kLeft;
+                    ++left_count;
+                } else {
+                    straddling_.push_back(p);
+                }
+            } else {
+                const bool left = e.pos < plane.pos || (e.pos == plane.pos && plane.planar_left);
+                side_[p] = left ? kLeft : kRight;
+                ++(left ? left_count : right_count);
+            }
         }
-        // Splice: events of one-sided primitives keep their order.
+        // Splice: events of one-sided primitives keep their order. At most two events per
+        // primitive and axis: reserving exactly that keeps the lists of waiting nodes small.
         for (int k = 0; k < 3; ++k) {
-            left[k].reserve(ev[k].size());
-            right[k].reserve(ev[k].size());
+            left[k].reserve(2 * size_t(left_count));
+            right[k].reserve(2 * size_t(right_count));
             for (const Event& e : ev[k]) {
                 const Side s = Side(side_[e.prim()]);
                 if (s == kLeft)
@@ -166,13 +171,13 @@ private:
         }
     }
 
-    /// Sorts `extra` and merges it into the sorted `list`.
-    void merge_into(std::vector<Event>& list, std::vector<Event>& extra) {
+    /// Sorts `extra` and merges it into the sorted `list` (into a new array of the exact size).
+    static void merge_into(std::vector<Event>& list, std::vector<Event>& extra) {
         if (extra.empty()) return;
         std::sort(extra.begin(), extra.end());
-        merged_.resize(list.size() + extra.size());
-        std::merge(list.begin(), list.end(), extra.begin(), extra.end(), merged_.begin());
-        list.swap(merged_);
+        std::vector<Event> merged(list.size() + extra.size());
+        std::merge(list.begin(), list.end(), extra.begin(), extra.end(), merged.begin());
+        list.swap(merged);
     }
 
     /// A leaf references each primitive once: at its start or planar event on axis 0.
@@ -189,7 +194,6 @@ private:
     TreeWriter& out_;
     std::vector<uint8_t> side_;
     std::vector<uint32_t> straddling_, leaf_;
-    std::vector<Event> merged_;
 };
 
 }  // namespace

@@ -17,43 +17,64 @@ struct KdCostModel {
 
 inline float kd_leaf_cost(const KdCostModel& c, uint32_t count) { return c.intersection * float(count); }
 
-/// Cost of a split of `voxel` (half-area `area`) into children of half-areas `left_area` and
-/// `right_area` holding `nl` and `nr` primitives.
-inline float kd_split_cost(const KdCostModel& c, float left_area, float right_area, float area, uint32_t nl,
-                           uint32_t nr) {
-    const float cost = c.traversal + c.intersection * (left_area * float(nl) + right_area * float(nr)) / area;
-    return (nl == 0 || nr == 0) ? cost * (1.0f - c.empty_bonus) : cost;
-}
-
 /// A candidate plane's best cost and where the primitives lying in it go.
 struct KdPlaneCost {
     float cost = 0.0f;
     bool planar_left = true;
 };
 
-/// Evaluates the plane `pos` on `axis` through `voxel` with `nl` primitives reaching below it,
-/// `np` lying in it and `nr` reaching above it (a straddling primitive counts on both sides).
-/// Returns false when the plane may not be used: the voxel has no area, or the plane is a face of
-/// the voxel and does not separate anything (that would make a child equal to its parent and
-/// recurse forever: only splitting off the primitives lying in a face is allowed there).
-/// Ties between the two sides go left. Both builders and the tests' reference use this.
+/// Prices the candidate planes on one axis of one voxel: a plane at `pos` with `nl` primitives
+/// reaching below it, `np` lying in it and `nr` reaching above it (a straddling primitive counts
+/// on both sides). The voxel's area and extents are computed once, since a sweep prices every
+/// event position. Both builders and the tests' naive reference price planes with this.
+class KdPlanePricer {
+public:
+    KdPlanePricer(const KdCostModel& c, const Aabb& voxel, int axis)
+        : c_(c), lo_(voxel.min[axis]), hi_(voxel.max[axis]) {
+        const float area = voxel.half_area();
+        const float eb = voxel.max[(axis + 1) % 3] - voxel.min[(axis + 1) % 3];
+        const float ec = voxel.max[(axis + 2) % 3] - voxel.min[(axis + 2) % 3];
+        valid_ = area > 0.0f;
+        inv_area_ = valid_ ? 1.0f / area : 0.0f;
+        side_sum_ = eb + ec;
+        face_ = eb * ec;
+    }
+
+    /// Returns false when the plane may not be used: the voxel has no area, or the plane is a
+    /// face of the voxel and does not separate anything (a child equal to its parent would
+    /// recurse forever: only splitting off the primitives lying in a face is allowed there).
+    /// Ties between the two sides go left.
+    bool price(float pos, uint32_t nl, uint32_t np, uint32_t nr, KdPlaneCost& out) const {
+        if (!valid_) return false;
+        const bool face = !(pos > lo_ && pos < hi_);
+        const bool left_ok = !face || (nl + np > 0 && nr > 0);
+        const bool right_ok = !face || (nl > 0 && nr + np > 0);
+        if (!left_ok && !right_ok) return false;
+        const float pl = ((pos - lo_) * side_sum_ + face_) * inv_area_;  // A(V_L) / A(V)
+        const float pr = ((hi_ - pos) * side_sum_ + face_) * inv_area_;
+        const float to_left = left_ok ? cost(pl, pr, nl + np, nr) : 0.0f;
+        const float to_right = !right_ok ? 0.0f : (np == 0 && left_ok) ? to_left : cost(pl, pr, nl, nr + np);
+        out.planar_left = left_ok && (!right_ok || to_left <= to_right);
+        out.cost = out.planar_left ? to_left : to_right;
+        return true;
+    }
+
+private:
+    float cost(float pl, float pr, uint32_t nl, uint32_t nr) const {
+        const float c = c_.traversal + c_.intersection * (pl * float(nl) + pr * float(nr));
+        return (nl == 0 || nr == 0) ? c * (1.0f - c_.empty_bonus) : c;
+    }
+
+    KdCostModel c_;
+    float lo_, hi_;
+    bool valid_;
+    float inv_area_, side_sum_, face_;
+};
+
+/// One plane priced on its own (KdPlanePricer::price).
 inline bool kd_plane_cost(const KdCostModel& c, const Aabb& voxel, int axis, float pos, uint32_t nl, uint32_t np,
                           uint32_t nr, KdPlaneCost& out) {
-    const float area = voxel.half_area();
-    if (!(area > 0.0f)) return false;
-    Aabb left = voxel, right = voxel;
-    left.max[axis] = pos;
-    right.min[axis] = pos;
-    const float la = left.half_area(), ra = right.half_area();
-    const bool face = !(pos > voxel.min[axis] && pos < voxel.max[axis]);
-    const bool left_ok = !face || (nl + np > 0 && nr > 0);
-    const bool right_ok = !face || (nl > 0 && nr + np > 0);
-    if (!left_ok && !right_ok) return false;
-    const float to_left = left_ok ? kd_split_cost(c, la, ra, area, nl + np, nr) : 0.0f;
-    const float to_right = right_ok ? kd_split_cost(c, la, ra, area, nl, nr + np) : 0.0f;
-    out.planar_left = left_ok && (!right_ok || to_left <= to_right);
-    out.cost = out.planar_left ? to_left : to_right;
-    return true;
+    return KdPlanePricer(c, voxel, axis).price(pos, nl, np, nr, out);
 }
 
 }  // namespace thicket
