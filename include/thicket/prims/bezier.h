@@ -23,7 +23,8 @@ class BezierPatch {
 public:
     using ControlPoints = std::array<Vec3, 16>;  ///< index 4 * j + i: row j (v), column i (u)
 
-    /// A patch with all 16 control points at the origin (never hit: it has no area).
+    /// A patch with all 16 control points at the origin. A patch whose control points all
+    /// coincide has no area and is never hit.
     BezierPatch() = default;
     /// Throws Error if a coordinate is NaN or infinite.
     explicit BezierPatch(const ControlPoints& cp);
