@@ -3,8 +3,11 @@
 // they need no XML library: declaration, comments and processing instructions, elements with
 // quoted attributes (no duplicates, no '<' in values), entity references, one root element, every
 // element closed in order, only whitespace outside the root. DOCTYPE and CDATA are not supported
-// (reported as errors): the writers under test never produce them.
+// (reported as errors): the writers under test never produce them. Plus small accessors to find
+// the elements and attribute values a test expects (no <regex>: GCC 12 warns inside it under the
+// sanitizers).
 #include <cctype>
+#include <optional>
 #include <set>
 #include <string>
 #include <string_view>
@@ -132,6 +135,42 @@ inline std::string xml_wellformedness_error(std::string_view doc) {
     if (!open.empty()) return "element <" + open.back() + "> is never closed";
     if (!root_seen) return "no root element";
     return "";
+}
+
+/// The start tags <element ...> of `doc` in document order, each from '<' to its '>'.
+inline std::vector<std::string> start_tags(std::string_view doc, std::string_view element) {
+    std::vector<std::string> out;
+    std::string open = "<";
+    open += element;
+    for (size_t p = doc.find(open); p != std::string_view::npos; p = doc.find(open, p + 1)) {
+        const size_t after = p + open.size();
+        if (after >= doc.size() || !(xml_detail::space(doc[after]) || doc[after] == '>' || doc[after] == '/')) continue;
+        const size_t end = doc.find('>', after);
+        if (end == std::string_view::npos) break;
+        out.emplace_back(doc.substr(p, end - p + 1));
+    }
+    return out;
+}
+
+/// The value of `attribute` in one start tag, as written (entities not decoded), or none.
+inline std::optional<std::string> attribute_of(std::string_view tag, std::string_view attribute) {
+    std::string key = " ";  // built in steps: GCC 12 warns falsely about "literal" + std::string
+    key += attribute;
+    key += "=\"";
+    const size_t p = tag.find(key);
+    if (p == std::string_view::npos) return std::nullopt;
+    const size_t begin = p + key.size(), end = tag.find('"', begin);
+    if (end == std::string_view::npos) return std::nullopt;
+    return std::string(tag.substr(begin, end - begin));
+}
+
+/// The values of `attribute` on every <element> that has it, in document order.
+inline std::vector<std::string> attribute_values(std::string_view doc, std::string_view element,
+                                                 std::string_view attribute) {
+    std::vector<std::string> out;
+    for (const std::string& tag : start_tags(doc, element))
+        if (auto v = attribute_of(tag, attribute)) out.push_back(*v);
+    return out;
 }
 
 }  // namespace thicket::test

@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <regex>
 #include <set>
 #include <string>
 #include <vector>
@@ -21,6 +20,7 @@
 #include "thicket/core/error.h"
 
 using namespace thicket;
+using thicket::test::attribute_values;
 using thicket::test::xml_wellformedness_error;
 
 namespace {
@@ -34,15 +34,6 @@ double area(const Scene& s, size_t i) {
     const Vec3 a = s.mesh.vertex(i, 0), b = s.mesh.vertex(i, 1), c = s.mesh.vertex(i, 2);
     const Vec3 n = cross(b - a, c - a);
     return 0.5 * std::sqrt(double(dot(n, n)));
-}
-
-std::vector<std::string> attribute_values(const std::string& doc, const std::string& element,
-                                          const std::string& attribute) {
-    std::vector<std::string> out;
-    const std::regex re("<" + element + "\\b[^>]*\\b" + attribute + "=\"([^\"]*)\"");
-    for (auto it = std::sregex_iterator(doc.begin(), doc.end(), re); it != std::sregex_iterator(); ++it)
-        out.push_back((*it)[1]);
-    return out;
 }
 
 size_t count(const std::string& doc, const std::string& needle) {
