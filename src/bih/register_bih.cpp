@@ -17,6 +17,7 @@ BihBuildOptions build_options(const AccelSpec& spec) {
 void register_bih(std::vector<AccelInfo>& registry) {
     AccelInfo info;
     info.name = "bih";
+    info.partitioning = Partitioning::Object;
     info.summary = "bounding interval hierarchy (Waechter & Keller 2006): 12-byte nodes with two clip planes, "
                    "global-heuristic build";
     info.options = {

@@ -21,6 +21,7 @@ BspBuildOptions build_options(const AccelSpec& spec) {
 void register_bsp(std::vector<AccelInfo>& registry) {
     AccelInfo info;
     info.name = "bsp";
+    info.partitioning = Partitioning::Space;
     info.summary = "BSP tree by autopartition: planes of the scene's own triangles, straddlers cut into fragments";
     const BspBuildOptions d;
     info.options = {

@@ -30,6 +30,7 @@ GridAssign assign_of(const AccelSpec& spec) {
 void register_grid(std::vector<AccelInfo>& registry) {
     AccelInfo info;
     info.name = "grid";
+    info.partitioning = Partitioning::Space;
     info.summary = "uniform grid with 3D-DDA (Amanatides & Woo 1987), lambda*N cells, compact cell lists";
     info.options = {
         {"lambda", "cells per primitive for the automatic resolution: lambda*N cells shaped like the scene's box",
@@ -62,6 +63,7 @@ void register_grid(std::vector<AccelInfo>& registry) {
 void register_grid2(std::vector<AccelInfo>& registry) {
     AccelInfo info;
     info.name = "grid2";
+    info.partitioning = Partitioning::Space;
     info.summary = "two-level grid (Kalojanov, Billeter & Slusallek 2011): a sub-grid in every non-empty top cell";
     info.options = {
         {"top", "top-level density in sixteenths of a cell per primitive (4: N/4 top cells)", "4", {}, 1, 1024},

@@ -20,6 +20,7 @@ KdTraversal traversal_option(const AccelSpec& spec) {
 void register_kdtree(std::vector<AccelInfo>& registry) {
     AccelInfo info;
     info.name = "kdtree";
+    info.partitioning = Partitioning::Space;
     info.summary = "SAH kD-tree (Wald & Havran 2006, O(N log N), perfect splits): 8-byte nodes, mailboxing";
     info.options = {
         {"builder",

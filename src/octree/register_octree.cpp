@@ -6,6 +6,7 @@ namespace thicket {
 void register_octree(std::vector<AccelInfo>& registry) {
     AccelInfo info;
     info.name = "octree";
+    info.partitioning = Partitioning::Space;
     info.summary = "adaptive octree (Glassner 1984): cubic cells split in eight, parametric (Revelles et al. 2000) "
                    "or restart traversal";
     info.options = {
