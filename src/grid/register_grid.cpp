@@ -16,8 +16,9 @@ OptionInfo mailbox_option() {
 
 OptionInfo assign_option() {
     return {"assign",
-            "which cells a primitive goes into: those its exact clipped part overlaps (triangles; other "
-            "primitives use their bounds), or every cell its bounding box overlaps",
+            "which cells a primitive goes into: those it really overlaps (exact clipping for triangles and "
+            "for primitives with a clip hook; others fall back to their bounds), or every cell its bounding box "
+            "overlaps",
             "clip", {"clip", "bounds"}, 0, 0};
 }
 
