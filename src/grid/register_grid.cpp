@@ -42,6 +42,7 @@ void register_grid(std::vector<AccelInfo>& registry) {
     info.variants = {
         "grid",
         "grid:assign=bounds",
+        "grid:mailbox=off",
         "grid:lambda=1",
         "grid:lambda=16",
         "grid:res=48",
@@ -74,6 +75,7 @@ void register_grid2(std::vector<AccelInfo>& registry) {
     info.variants = {
         "grid2",
         "grid2:assign=bounds",
+        "grid2:mailbox=off",
         "grid2:top=1,leaf=80",
         "grid2:isect=watertight",
     };
