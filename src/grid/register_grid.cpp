@@ -16,8 +16,9 @@ OptionInfo mailbox_option() {
 
 OptionInfo assign_option() {
     return {"assign",
-            "which cells a primitive goes into: those its exact clipped part overlaps (triangles; other "
-            "primitives use their bounds), or every cell its bounding box overlaps",
+            "which cells a primitive goes into: those it really overlaps (exact clipping for triangles and "
+            "for primitives with a clip hook; others fall back to their bounds), or every cell its bounding box "
+            "overlaps",
             "clip", {"clip", "bounds"}, 0, 0};
 }
 
@@ -42,6 +43,7 @@ void register_grid(std::vector<AccelInfo>& registry) {
     info.variants = {
         "grid",
         "grid:assign=bounds",
+        "grid:mailbox=off",
         "grid:lambda=1",
         "grid:lambda=16",
         "grid:res=48",
@@ -75,6 +77,7 @@ void register_grid2(std::vector<AccelInfo>& registry) {
     info.variants = {
         "grid2",
         "grid2:assign=bounds",
+        "grid2:mailbox=off",
         "grid2:top=1,leaf=80",
         "grid2:isect=watertight",
     };
