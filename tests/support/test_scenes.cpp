@@ -108,26 +108,26 @@ void add_shape_rays(const Scene& scene, size_t share, std::mt19937& rng, std::ve
         }
         rays.push_back({o, 0.0f, ((i % 2) ? in : out) - o, kInfinity});
     }
-    // Starting on a shape (tmin 0, where the origin's own surface may be hit at t ~ 0), inward or outward.
-    for (size_t i = 0; i < share; ++i) {
+    // A ray from near a random shape aimed into its box, scaled so that its hit (if any) is at t = 1.
+    auto aimed = [&]() -> std::pair<Ray, bool> {
         const Shape& s = scene.shapes[rng() % n];
         const Aabb b = shape_bounds(s);
         const Vec3 o = near_origin(b);
         const Ray probe{o, 0.0f, random_point(rng, b.min, b.max) - o, kInfinity};
         const auto t = shape_hit(s, probe);
-        const Vec3 start = t ? o + probe.dir * *t : b.center();
+        return {{o, 0.0f, probe.dir * (t ? *t : 1.0f), kInfinity}, t.has_value()};
+    };
+    // Starting on a shape (tmin 0, where the origin's own surface may be hit at t ~ 0), any direction.
+    for (size_t i = 0; i < share; ++i) {
+        const auto [probe, hit] = aimed();
         Vec3 d = random_point(rng, Vec3(-1), Vec3(1));
         if (dot(d, d) == 0.0f) d = {0, 1, 0};
-        rays.push_back({start, 0.0f, d, kInfinity});
+        rays.push_back({hit ? probe.org + probe.dir : probe.org, 0.0f, d, kInfinity});
     }
     // Narrow and shifted windows around a shape's hit at t = 1.
     for (size_t i = 0; i < share; ++i) {
-        const Shape& s = scene.shapes[rng() % n];
-        const Aabb b = shape_bounds(s);
-        const Vec3 o = near_origin(b);
-        const Ray probe{o, 0.0f, random_point(rng, b.min, b.max) - o, kInfinity};
-        const auto t = shape_hit(s, probe);
-        const Vec3 d = probe.dir * (t ? *t : 1.0f);
+        const Ray probe = aimed().first;
+        const Vec3 o = probe.org, d = probe.dir;
         switch (i % 4) {
         case 0: rays.push_back({o, 0.999f, d, 1.001f}); break;
         case 1: rays.push_back({o, 1.0001f, d, kInfinity}); break;  // just beyond: the far root
@@ -228,6 +228,14 @@ std::vector<Scene> nasty_scenes() {
     scenes.push_back(mixed_scene());
     scenes.push_back(make("soup", random_soup(2000, {-1, -1, -1}, {1, 1, 1}, 0.1f, 23)));
     return scenes;
+}
+
+Vec3 random_unit_vector(std::mt19937& rng) {
+    std::normal_distribution<float> n(0.0f, 1.0f);
+    while (true) {
+        const Vec3 v{n(rng), n(rng), n(rng)};
+        if (length(v) > 1e-3f) return normalize(v);
+    }
 }
 
 std::string shared_scene_dir() {

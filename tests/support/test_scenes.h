@@ -1,5 +1,6 @@
 #pragma once
 // Scenes and ray sets the conformance suite runs every structure on.
+#include <random>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,9 @@ std::vector<Scene> nasty_scenes();
 /// a sphere in a torus's hole, tiny ones (1e-4) and a huge one (radius 1e4) that holds most ray
 /// origins inside it.
 Scene mixed_scene();
+
+/// A random unit vector (normal distribution, normalized), for tests that shoot from every side.
+Vec3 random_unit_vector(std::mt19937& rng);
 
 /// Directory of the shared real scenes, or "" when ../shared/scenes is absent.
 std::string shared_scene_dir();

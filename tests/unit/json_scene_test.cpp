@@ -5,12 +5,10 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
-#include <unistd.h>
-
+#include "support/temp_dir.h"
 #include "thicket/accel/registry.h"
 #include "thicket/core/error.h"
 #include "thicket/scene/loaders.h"
@@ -21,31 +19,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class TempDir {
+/// A temporary directory with two meshes: meshes/quad.obj (two triangles in z = 0) and tri.obj
+/// (one at z = 5).
+class TempDir : public testing::TempDir {
 public:
-    TempDir() {
-        static int counter = 0;
-        path_ = fs::temp_directory_path() /
-                ("thicket_json_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-        fs::remove_all(path_);
-        fs::create_directories(path_ / "meshes");
-        // Two triangles in the z = 0 plane and one at z = 5 (OBJ, 1-based indices).
+    TempDir() : testing::TempDir("thicket_json") {
+        fs::create_directories(fs::path(dir()) / "meshes");
         file("meshes/quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
         file("tri.obj", "v 0 0 5\nv 1 0 5\nv 0 1 5\nf 1 2 3\n");
     }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path_, ec);
-    }
-    std::string file(const std::string& name, const std::string& text) const {
-        const fs::path p = path_ / name;
-        std::ofstream(p, std::ios::binary) << text;
-        return p.string();
-    }
-    std::string dir() const { return path_.string(); }
-
-private:
-    fs::path path_;
 };
 
 /// Loads `json` as a scene file and expects an Error naming the file and every fragment.

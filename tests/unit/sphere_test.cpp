@@ -6,6 +6,7 @@
 #include <optional>
 #include <random>
 
+#include "support/test_scenes.h"
 #include "thicket/prims/sphere.h"
 
 namespace thicket {
@@ -41,13 +42,7 @@ std::optional<double> expected_t(const Sphere& s, const Ray& ray) {
     return std::nullopt;
 }
 
-Vec3 random_unit(std::mt19937& rng) {
-    std::normal_distribution<float> n(0.0f, 1.0f);
-    while (true) {
-        const Vec3 v{n(rng), n(rng), n(rng)};
-        if (length(v) > 1e-3f) return normalize(v);
-    }
-}
+using testing::random_unit_vector;
 
 struct Case {
     const char* what;
@@ -65,7 +60,7 @@ void check_case(const Case& c, uint32_t seed) {
     const Sphere s{c.center, c.radius};
     int hits = 0;
     for (int i = 0; i < 4000; ++i) {
-        const Vec3 o = c.center + random_unit(rng) * (c.radius * c.distance);
+        const Vec3 o = c.center + random_unit_vector(rng) * (c.radius * c.distance);
         const Vec3 target = c.center + Vec3{u(rng), u(rng), u(rng)} * c.radius;
         Ray ray{o, 0.0f, target - o, kInfinity};
         if (i % 3 == 1) ray.dir = normalize(ray.dir);
@@ -116,7 +111,7 @@ TEST(Sphere, FromInsideTheFarRootIsReported) {
         for (int i = 0; i < 2000; ++i) {
             Vec3 o{u(rng), u(rng), u(rng)};
             if (dot(o, o) >= 0.81f) continue;
-            const Ray ray{s.center + o * r, 0.0f, random_unit(rng), kInfinity};
+            const Ray ray{s.center + o * r, 0.0f, random_unit_vector(rng), kInfinity};
             const auto roots = quad_roots(s, ray);
             ASSERT_TRUE(roots);
             ASSERT_LT(roots->first, 0.0);

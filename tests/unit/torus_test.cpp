@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "support/root_reference.h"
+#include "support/test_scenes.h"
 #include "thicket/core/ray_box.h"
 #include "thicket/prims/torus.h"
 
@@ -19,13 +20,7 @@ namespace {
 
 using testing::torus_distance;
 
-Vec3 random_unit(std::mt19937& rng) {
-    std::normal_distribution<float> n(0.0f, 1.0f);
-    while (true) {
-        const Vec3 v{n(rng), n(rng), n(rng)};
-        if (length(v) > 1e-3f) return normalize(v);
-    }
-}
+using testing::random_unit_vector;
 
 struct Family {
     std::string name;
@@ -48,7 +43,7 @@ std::vector<Family> ray_families(const Torus& t, std::mt19937& rng) {
     f.push_back({"random", {}});
     const Aabb b = t.bounds();
     for (int i = 0; i < n; ++i) {
-        const DVec3 o = c + DVec3(random_unit(rng)) * (3.0 * reach * (0.5 + u01(rng)));
+        const DVec3 o = c + DVec3(random_unit_vector(rng)) * (3.0 * reach * (0.5 + u01(rng)));
         const DVec3 target(b.min.x + (b.max.x - b.min.x) * float(u01(rng)), b.min.y + (b.max.y - b.min.y) * float(u01(rng)),
                            b.min.z + (b.max.z - b.min.z) * float(u01(rng)));
         f.back().rays.push_back(ray(o, target - o));
@@ -57,7 +52,7 @@ std::vector<Family> ray_families(const Torus& t, std::mt19937& rng) {
     for (int i = 0; i < n; ++i) {
         const double side = i % 2 ? 1.0 : -1.0;
         const DVec3 o = c + a * (side * 3.0 * reach) + radial(kTwoPi * u01(rng)) * ((R - r) * 1.1 * u01(rng));
-        const DVec3 d = a * -side + DVec3(random_unit(rng)) * (0.2 * u01(rng));
+        const DVec3 d = a * -side + DVec3(random_unit_vector(rng)) * (0.2 * u01(rng));
         f.back().rays.push_back(ray(o, d));
     }
     // Offsets from exact tangency, inward (two close roots) and outward (a miss), down to 1e-7 r.
@@ -85,9 +80,9 @@ std::vector<Family> ray_families(const Torus& t, std::mt19937& rng) {
     }
     f.push_back({"silhouettes", {}, true});
     for (int i = 0; i < n; ++i) {
-        const DVec3 o = c + DVec3(random_unit(rng)) * (3.0 * reach);
+        const DVec3 o = c + DVec3(random_unit_vector(rng)) * (3.0 * reach);
         DVec3 in = c + radial(kTwoPi * u01(rng)) * R;  // on the tube's centre circle: a hit
-        DVec3 out = in + DVec3(random_unit(rng)) * (3.0 * reach);
+        DVec3 out = in + DVec3(random_unit_vector(rng)) * (3.0 * reach);
         ShapeHit h;
         for (int k = 0; k < 50; ++k) {
             const DVec3 mid = (in + out) * 0.5;
@@ -99,11 +94,11 @@ std::vector<Family> ray_families(const Torus& t, std::mt19937& rng) {
     for (int i = 0; i < n; ++i) {
         const double phi = kTwoPi * u01(rng), psi = kTwoPi * u01(rng), rho = 0.95 * r * u01(rng);
         const DVec3 o = c + radial(phi) * (R + rho * std::cos(psi)) + a * (rho * std::sin(psi));
-        f.back().rays.push_back(ray(o, DVec3(random_unit(rng))));
+        f.back().rays.push_back(ray(o, DVec3(random_unit_vector(rng))));
     }
     f.push_back({"far away", {}});
     for (int i = 0; i < n; ++i) {
-        const DVec3 o = c + DVec3(random_unit(rng)) * (1e4 * reach);
+        const DVec3 o = c + DVec3(random_unit_vector(rng)) * (1e4 * reach);
         const DVec3 target = c + radial(kTwoPi * u01(rng)) * (R + r * (2 * u01(rng) - 1));
         f.back().rays.push_back(ray(o, target - o));
     }
@@ -129,7 +124,7 @@ std::vector<Torus> test_tori(std::mt19937& rng) {
     std::uniform_real_distribution<float> u(-10.0f, 10.0f), ratio(0.05f, 0.7f), big(0.5f, 2.0f);
     for (int i = 0; i < 9; ++i) {
         const float R = big(rng);
-        tori.push_back({{u(rng), u(rng), u(rng)}, random_unit(rng), R, R * ratio(rng)});
+        tori.push_back({{u(rng), u(rng), u(rng)}, random_unit_vector(rng), R, R * ratio(rng)});
     }
     return tori;
 }
