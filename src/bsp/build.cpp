@@ -4,9 +4,9 @@
 #include "thicket/bsp/build.h"
 
 #include <algorithm>
-#include <utility>
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "box_fragments.h"
 #include "polygon_fragments.h"
@@ -270,8 +270,10 @@ private:
             out_.nodes[node].index = child;
             out_.nodes[node].count = 0;
             // The budget is shared in proportion to the fragments each side receives, so neither
-            // side can starve the other, and both fit (budget >= total).
-            const uint64_t budget_back = budget * back.size() / total;
+            // side can starve the other, and both fit (budget >= total). In double: the product
+            // could overflow 64 bits; the clamp keeps each side's share at least its fragments.
+            const auto share = uint64_t(double(budget) * double(back.size()) / double(total));
+            const uint64_t budget_back = std::clamp<uint64_t>(share, back.size(), budget - front.size());
             const Aabb cell_back = child_cell(cell, c.plane, false), cell_front = child_cell(cell, c.plane, true);
             set = Set{};  // free the parent's fragments before descending
             build(child, std::move(back), cell_back, depth + 1, budget_back);

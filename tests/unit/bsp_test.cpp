@@ -167,6 +167,34 @@ TEST(BspFragments, LieOnTheirSideOfEveryPlaneOnTheirPath) {
     }
 }
 
+TEST(BspBuild, PureAutopartitionPlanesPassThroughTheSceneTriangles) {
+    // Without the axis fallback every plane is a triangle's own plane or one of its edge planes:
+    // it holds at least two vertices of some triangle.
+    for (const char* name : {"soup", "coplanar", "closed-cube"}) {
+        SCOPED_TRACE(name);
+        const Scene scene = nasty(name);
+        const auto tris = triangles_of(scene);
+        BspBuildOptions o;
+        o.axis_fallback = false;
+        const Built b = build(scene, o);
+        const double tolerance = double(kBspPlaneBand) * b.bsp.scale;
+        size_t planes = 0;
+        for (const BspNode& n : b.bsp.nodes) {
+            if (n.is_leaf()) continue;
+            ++planes;
+            bool found = false;
+            for (size_t t = 0; t < tris.size() && !found; ++t) {
+                int on = 0;
+                for (const Vec3& v : tris[t]) on += std::fabs(distance(n.plane, d3(v))) <= tolerance ? 1 : 0;
+                found = on >= 2;
+            }
+            EXPECT_TRUE(found) << "plane (" << n.plane.normal.x << ", " << n.plane.normal.y << ", " << n.plane.normal.z
+                               << ") . p = " << n.plane.offset << " holds no triangle's edge";
+        }
+        EXPECT_GT(planes, 0u);
+    }
+}
+
 TEST(BspFragments, SplinterStatisticsMatchTheFragments) {
     const Scene scene = nasty("soup");
     const auto tris = triangles_of(scene);

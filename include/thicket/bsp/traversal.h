@@ -71,7 +71,7 @@ bool query(const BspData& bsp, const Prims& prims, const Ray& ray, Hit& hit, C& 
         reversed.neg[a] = 1 - q.neg[a];
     }
     float t1 = -ray_box_entry(reversed, bsp.bounds, -ray.tmax, -ray.tmin);
-    if (!(t1 >= t0)) t1 = t0;  // the reversed test cannot miss where the forward one hit; rounding aside
+    if (!(t1 >= t0)) t1 = ray.tmax;  // rounding made the reversed test miss: keep the whole ray
 
     const float e_d = kBspPlaneBand * (length(ray.org) + 2.0f * bsp.scale);
     const float e_n = kBspPlaneBand * length(ray.dir);
