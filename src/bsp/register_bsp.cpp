@@ -47,7 +47,7 @@ void register_bsp(std::vector<AccelInfo>& registry) {
     info.variants = {
         "bsp",
         "bsp:cost=balance,fallback=none",
-        "bsp:isect=watertight,max-leaf=1,candidates=4",
+        "bsp:isect=watertight,max-leaf=4,candidates=4",
         "bsp:fragment-budget=2,max-depth=16",
     };
     info.build = [](const Scene& scene, const AccelSpec& spec) {
