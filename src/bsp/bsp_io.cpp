@@ -9,26 +9,11 @@
 
 #include "thicket/bsp/build.h"
 #include "thicket/core/error.h"
+#include "thicket/util/binary_io.h"
 
 namespace thicket {
 
 namespace {
-
-template <class T>
-void put(std::ostream& out, const T& v) {
-    out.write(reinterpret_cast<const char*>(&v), sizeof(T));
-}
-
-template <class T>
-void get(std::istream& in, T& v, const char* what) {
-    if (!in.read(reinterpret_cast<char*>(&v), sizeof(T))) throw Error(std::string("BSP payload truncated in ") + what);
-}
-
-template <class T>
-void get_array(std::istream& in, T* data, size_t count, const char* what) {
-    if (!in.read(reinterpret_cast<char*>(data), std::streamsize(count * sizeof(T))))
-        throw Error(std::string("BSP payload truncated in ") + what);
-}
 
 /// Most nodes and references a tree over `prims` primitives can have: every fragment is a
 /// reference, fragments are at most kMaxBudget per primitive, and leaves never outnumber
@@ -38,25 +23,26 @@ constexpr uint64_t kMaxBudget = 1024;
 }  // namespace
 
 void write_bsp(std::ostream& out, const BspData& bsp) {
-    put(out, uint64_t(bsp.nodes.size()));
-    put(out, uint64_t(bsp.refs.size()));
-    out.write(reinterpret_cast<const char*>(bsp.nodes.data()), std::streamsize(bsp.nodes.size() * sizeof(BspNode)));
-    out.write(reinterpret_cast<const char*>(bsp.refs.data()), std::streamsize(bsp.refs.size() * sizeof(uint32_t)));
-    put(out, bsp.bounds);
-    put(out, bsp.scale);
+    write_value(out, uint64_t(bsp.nodes.size()));
+    write_value(out, uint64_t(bsp.refs.size()));
+    write_array(out, bsp.nodes.data(), bsp.nodes.size());
+    write_array(out, bsp.refs.data(), bsp.refs.size());
+    write_value(out, bsp.bounds);
+    write_value(out, bsp.scale);
     const BspSplinters& f = bsp.splinters;
     for (uint64_t v : {f.fragments, f.splits, f.dropped, f.in_plane, f.split_triangles, f.pieces, f.measured_pieces,
                        f.slivers, f.depth_capped, f.budget_capped, f.unsplittable})
-        put(out, v);
-    put(out, f.smallest_area);
-    put(out, f.smallest_ratio);
-    put(out, uint8_t(f.polygons ? 1 : 0));
+        write_value(out, v);
+    write_value(out, f.smallest_area);
+    write_value(out, f.smallest_ratio);
+    write_value(out, uint8_t(f.polygons ? 1 : 0));
 }
 
 BspData read_bsp(std::istream& in, size_t primitive_count) {
+    PayloadReader reader(in, "BSP");
     uint64_t nodes = 0, refs = 0;
-    get(in, nodes, "node count");
-    get(in, refs, "reference count");
+    reader.value(nodes, "node count");
+    reader.value(refs, "reference count");
     const uint64_t max_refs = kMaxBudget * primitive_count;
     if (refs > max_refs || nodes > 2 * max_refs + 1)
         throw Error("BSP payload claims " + std::to_string(nodes) + " nodes and " + std::to_string(refs) +
@@ -64,18 +50,18 @@ BspData read_bsp(std::istream& in, size_t primitive_count) {
     BspData bsp;
     bsp.nodes.resize(nodes);
     bsp.refs.resize(refs);
-    get_array(in, bsp.nodes.data(), nodes, "nodes");
-    get_array(in, bsp.refs.data(), refs, "references");
-    get(in, bsp.bounds, "bounds");
-    get(in, bsp.scale, "scale");
+    reader.array(bsp.nodes.data(), nodes, "nodes");
+    reader.array(bsp.refs.data(), refs, "references");
+    reader.value(bsp.bounds, "bounds");
+    reader.value(bsp.scale, "scale");
     BspSplinters& f = bsp.splinters;
     for (uint64_t* v : {&f.fragments, &f.splits, &f.dropped, &f.in_plane, &f.split_triangles, &f.pieces,
                         &f.measured_pieces, &f.slivers, &f.depth_capped, &f.budget_capped, &f.unsplittable})
-        get(in, *v, "splinter figures");
-    get(in, f.smallest_area, "splinter figures");
-    get(in, f.smallest_ratio, "splinter figures");
+        reader.value(*v, "splinter figures");
+    reader.value(f.smallest_area, "splinter figures");
+    reader.value(f.smallest_ratio, "splinter figures");
     uint8_t polygons = 0;
-    get(in, polygons, "splinter figures");
+    reader.value(polygons, "splinter figures");
     if (polygons > 1) throw Error("BSP payload: fragment kind " + std::to_string(polygons) + " is neither 0 nor 1");
     f.polygons = polygons == 1;
     if (in.peek() != std::char_traits<char>::eof()) throw Error("BSP payload has trailing bytes");

@@ -5,42 +5,28 @@
 #include <ostream>
 
 #include "thicket/core/error.h"
+#include "thicket/util/binary_io.h"
 #include "thicket/kdtree/build.h"
 
 namespace thicket {
 
-namespace {
-
-template <class T>
-void put(std::ostream& out, const T& v) {
-    out.write(reinterpret_cast<const char*>(&v), sizeof(T));
-}
-
-template <class T>
-void get(std::istream& in, T* data, size_t count, const char* what) {
-    if (!in.read(reinterpret_cast<char*>(data), std::streamsize(count * sizeof(T))))
-        throw Error(std::string("kD-tree payload truncated in ") + what);
-}
-
-}  // namespace
-
 void write_kdtree(std::ostream& out, const KdTreeData& tree) {
-    put(out, tree.primitives);
-    put(out, uint32_t(tree.nodes.size()));
-    put(out, uint32_t(tree.prim_indices.size()));
-    put(out, tree.bounds);
-    out.write(reinterpret_cast<const char*>(tree.nodes.data()), std::streamsize(tree.nodes.size() * sizeof(KdNode)));
-    out.write(reinterpret_cast<const char*>(tree.prim_indices.data()),
-              std::streamsize(tree.prim_indices.size() * sizeof(uint32_t)));
+    write_value(out, tree.primitives);
+    write_value(out, uint32_t(tree.nodes.size()));
+    write_value(out, uint32_t(tree.prim_indices.size()));
+    write_value(out, tree.bounds);
+    write_array(out, tree.nodes.data(), tree.nodes.size());
+    write_array(out, tree.prim_indices.data(), tree.prim_indices.size());
 }
 
 KdTreeData read_kdtree(std::istream& in, size_t primitive_count) {
+    PayloadReader reader(in, "kD-tree");
     KdTreeData tree;
     uint32_t nodes = 0, refs = 0;
-    get(in, &tree.primitives, 1, "primitive count");
-    get(in, &nodes, 1, "node count");
-    get(in, &refs, 1, "reference count");
-    get(in, &tree.bounds, 1, "root voxel");
+    reader.value(tree.primitives, "primitive count");
+    reader.value(nodes, "node count");
+    reader.value(refs, "reference count");
+    reader.value(tree.bounds, "root voxel");
     if (tree.primitives != primitive_count)
         throw Error("kD-tree payload holds " + std::to_string(tree.primitives) + " primitives, the scene " +
                     std::to_string(primitive_count));
@@ -55,8 +41,8 @@ KdTreeData read_kdtree(std::istream& in, size_t primitive_count) {
                     std::to_string(refs) + " references");
     tree.nodes.resize(nodes);
     tree.prim_indices.resize(refs);
-    get(in, tree.nodes.data(), nodes, "nodes");
-    get(in, tree.prim_indices.data(), refs, "primitive references");
+    reader.array(tree.nodes.data(), nodes, "nodes");
+    reader.array(tree.prim_indices.data(), refs, "primitive references");
     validate_kdtree(tree, primitive_count);
     return tree;
 }

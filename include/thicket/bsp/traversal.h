@@ -21,39 +21,14 @@
 /// cell's entry, which is never later than "before the current leaf's widened exit".
 #include <algorithm>
 #include <cmath>
-#include <vector>
 
+#include "thicket/accel/mailbox.h"
 #include "thicket/bsp/node.h"
 #include "thicket/core/ray_box.h"
 #include "thicket/prims/primitive_set.h"
 
 namespace thicket {
 namespace bsp_detail {
-
-/// Mailboxing (Amanatides & Woo 1987): a primitive cut into fragments is referenced by several
-/// leaves, and is tested once per query all the same. stamps[prim] == query marks primitive prim
-/// as tested by the thread's current query; each query takes a fresh stamp, so nothing needs
-/// clearing (except once every 2^32 queries).
-struct Mailbox {
-    std::vector<uint32_t> stamps;
-    uint32_t query = 0;
-
-    /// Starts a query over primitives [0, n): returns its stamp.
-    uint32_t begin(size_t n) {
-        if (stamps.size() < n) stamps.resize(n, 0);
-        if (++query == 0) {
-            std::fill(stamps.begin(), stamps.end(), 0u);
-            query = 1;
-        }
-        return query;
-    }
-};
-
-/// The calling thread's mailbox (one per thread, shared by every BSP tree it queries).
-inline Mailbox& thread_mailbox() {
-    thread_local Mailbox mailbox;
-    return mailbox;
-}
 
 /// Closest hit (AnyHit = false: updates `hit`) or any hit (AnyHit = true: returns true at the
 /// first primitive hit within [tmin, tmax]).
@@ -76,9 +51,8 @@ bool query(const BspData& bsp, const Prims& prims, const Ray& ray, Hit& hit, C& 
     const float e_d = kBspPlaneBand * (length(ray.org) + 2.0f * bsp.scale);
     const float e_n = kBspPlaneBand * length(ray.dir);
 
-    Mailbox& mailbox = thread_mailbox();
-    const uint32_t stamp = mailbox.begin(prims.size());
-    uint32_t* const tested = mailbox.stamps.data();
+    // A primitive cut into fragments is referenced by several leaves: test it once per query.
+    Mailbox mailbox(prims.size());
 
     struct Entry {
         uint32_t node;
@@ -130,8 +104,7 @@ bool query(const BspData& bsp, const Prims& prims, const Ray& ray, Hit& hit, C& 
         } else {
             for (uint32_t i = node.index, end = node.index + node.leaf_size(); i < end; ++i) {
                 const uint32_t prim = bsp.refs[i];
-                if (tested[prim] == stamp) continue;
-                tested[prim] = stamp;
+                if (!mailbox.first_visit(prim)) continue;
                 counters.prim();
                 if constexpr (AnyHit) {
                     if (prims.occludes(prim, ray)) return true;

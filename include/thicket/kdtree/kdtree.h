@@ -34,11 +34,11 @@ public:
 
     template <class C>
     Hit closest(const Ray& ray, C& counters) const {
-        return kd_closest_hit(data_, prims_, ray, traversal_, mailbox_owner_, counters);
+        return kd_closest_hit(data_, prims_, ray, traversal_, counters);
     }
     template <class C>
     bool any(const Ray& ray, C& counters) const {
-        return kd_any_hit(data_, prims_, ray, traversal_, mailbox_owner_, counters);
+        return kd_any_hit(data_, prims_, ray, traversal_, counters);
     }
 
     AccelStats stats() const override {
@@ -76,7 +76,6 @@ private:
     KdTreeData data_;
     KdBuildOptions options_;
     KdTraversal traversal_;
-    uint64_t mailbox_owner_ = new_mailbox_owner();
 };
 
 }  // namespace thicket

@@ -23,7 +23,7 @@
 #include <cmath>
 
 #include "thicket/core/ray_box.h"
-#include "thicket/kdtree/mailbox.h"
+#include "thicket/accel/mailbox.h"
 #include "thicket/kdtree/node.h"
 #include "thicket/prims/primitive_set.h"
 
@@ -80,8 +80,8 @@ struct KdQuery {
     Mailbox mailbox;
     Vec3 inv;
 
-    KdQuery(const KdTreeData& t, const Prims& p, const Ray& r, Hit& h, C& c, uint64_t owner)
-        : tree(t), prims(p), ray(r), hit(h), counters(c), mailbox(owner, p.size()),
+    KdQuery(const KdTreeData& t, const Prims& p, const Ray& r, Hit& h, C& c)
+        : tree(t), prims(p), ray(r), hit(h), counters(c), mailbox(p.size()),
           inv(1.0f / r.dir.x, 1.0f / r.dir.y, 1.0f / r.dir.z) {}
 
     float far() const { return AnyHit ? ray.tmax : hit.t; }
@@ -259,19 +259,19 @@ struct KdQuery {
 
 /// Closest hit within [ray.tmin, ray.tmax] (prim == kNoPrim on a miss).
 template <PrimitiveSet Prims, class C>
-Hit kd_closest_hit(const KdTreeData& tree, const Prims& prims, const Ray& ray, KdTraversal traversal, uint64_t owner,
+Hit kd_closest_hit(const KdTreeData& tree, const Prims& prims, const Ray& ray, KdTraversal traversal,
                    C& counters) {
     Hit hit = miss_for(ray);
-    kd_detail::KdQuery<false, Prims, C>(tree, prims, ray, hit, counters, owner).run(traversal);
+    kd_detail::KdQuery<false, Prims, C>(tree, prims, ray, hit, counters).run(traversal);
     return hit;
 }
 
 /// Whether anything is hit within [ray.tmin, ray.tmax]; stops at the first hit.
 template <PrimitiveSet Prims, class C>
-bool kd_any_hit(const KdTreeData& tree, const Prims& prims, const Ray& ray, KdTraversal traversal, uint64_t owner,
+bool kd_any_hit(const KdTreeData& tree, const Prims& prims, const Ray& ray, KdTraversal traversal,
                 C& counters) {
     Hit unused = miss_for(ray);
-    return kd_detail::KdQuery<true, Prims, C>(tree, prims, ray, unused, counters, owner).run(traversal);
+    return kd_detail::KdQuery<true, Prims, C>(tree, prims, ray, unused, counters).run(traversal);
 }
 
 }  // namespace thicket

@@ -21,7 +21,7 @@
 #include <cmath>
 
 #include "thicket/bih/slab_interval.h"
-#include "thicket/octree/mailbox.h"
+#include "thicket/accel/mailbox.h"
 #include "thicket/octree/node.h"
 #include "thicket/prims/primitive_set.h"
 

@@ -1,6 +1,7 @@
 #pragma once
-/// Mailboxing (Amanatides & Woo 1987): a primitive referenced by several cells is tested at most
-/// once per query. Each thread keeps one stamp per primitive and a query counter that only
+/// Mailboxing (Amanatides & Woo 1987): a primitive referenced by several cells (octree, kD-tree,
+/// BSP fragments) is tested at most once per query. Const structures are queried from many threads
+/// at once, so the stamps live with the thread. Each thread keeps one stamp per primitive and a query counter that only
 /// grows, so a stamp left by any earlier query (of any structure on this thread) never equals
 /// the current query's: nothing needs clearing between queries or structures.
 #include <algorithm>
