@@ -253,6 +253,8 @@ std::vector<BenchRow> bench_scene(const Scene& scene, const std::string& label, 
 
 std::vector<BenchRow> merge_bench_rounds(std::span<const std::vector<BenchRow>> rounds) {
     if (rounds.empty()) return {};
+    // One round keeps its pass-to-pass range: "merging" it would collapse the range to its median.
+    if (rounds.size() == 1) return rounds.front();
     std::vector<BenchRow> merged = rounds.front();
     for (size_t i = 0; i < merged.size(); ++i) {
         BenchRow& m = merged[i];

@@ -541,6 +541,13 @@ TEST(BenchRunner, RoundsMergeIntoMediansWithTheRunToRunRange) {
     mismatched[1][0].set = "shadow";
     EXPECT_THROW(merge_bench_rounds(mismatched), Error);
     EXPECT_TRUE(merge_bench_rounds({}).empty());
+
+    // A single round is not a merge: its slowest and fastest passes stay the range.
+    const std::vector<std::vector<BenchRow>> one{{row(2, 0.2, 20)}};
+    const std::vector<BenchRow> kept = merge_bench_rounds(one);
+    EXPECT_EQ(kept[0].mrays_min, 1.8);
+    EXPECT_EQ(kept[0].mrays_max, 2.2);
+    EXPECT_EQ(kept[0].rounds, 1);
 }
 
 // ---- output ------------------------------------------------------------------------------------

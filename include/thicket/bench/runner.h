@@ -53,7 +53,7 @@ std::vector<BenchRow> bench_scene(const Scene& scene, const std::string& label, 
 /// same order; throws Error otherwise) into one row each: Mrays/s, ratio, build time and
 /// utilization are medians over the rounds, mrays_min / mrays_max the slowest and fastest round
 /// median (the spread between runs, which on a shared machine is larger than within one), the
-/// rest from the first round.
+/// rest from the first round. A single round is returned as it is, with its pass-to-pass range.
 std::vector<BenchRow> merge_bench_rounds(std::span<const std::vector<BenchRow>> rounds);
 
 }  // namespace thicket
