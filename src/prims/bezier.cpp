@@ -171,10 +171,10 @@ public:
         hit.u = float(std::clamp(best_u_, 0.0, 1.0));
         hit.v = float(std::clamp(best_v_, 0.0, 1.0));
         // Rounding to float may step over the interval's ends that the double root respected.
-        hit.t = std::clamp(hit.t, float(tmin_), float(tmax_float_));
+        hit.t = std::clamp(hit.t, tmin_float_, tmax_float_);
         return true;
     }
-    void set_float_tmax(float tmax) { tmax_float_ = tmax; }
+    void set_float_window(float tmin, float tmax) { tmin_float_ = tmin, tmax_float_ = tmax; }
 
 private:
     void visit(const Grid& g, double u0, double u1, double v0, double v1, int depth) {
@@ -291,7 +291,7 @@ private:
 
     const Grid& root_;
     double tmin_, best_t_;
-    float tmax_float_ = kInfinity;
+    float tmin_float_ = 0.0f, tmax_float_ = kInfinity;
     double best_u_ = 0, best_v_ = 0;
     bool found_ = false;
     double tol_, zero_, leaf_, eps_t_;
@@ -333,8 +333,12 @@ bool intersect_counted(const BezierPatch& patch, const Ray& ray, float tmax, Sha
     const double size = std::max({double(ext.x), double(ext.y), double(ext.z)});
     if (!(size > 0.0)) return false;  // all control points coincide: no area
     const double offset = norm(to_d3(box.center()) - o) + size;
-    Solver solver(g, ray.tmin, tmax, size, offset, len, stats);
-    solver.set_float_tmax(tmax);
+    // Roots that round to the float window's ends count: the window in double reaches half an ulp
+    // beyond them (a structure passes its closest hit so far, a float, as tmax).
+    const double tmin_d = ray.tmin > 0.0f ? 0.5 * (double(ray.tmin) + double(std::nextafter(ray.tmin, 0.0f))) : double(ray.tmin);
+    const double tmax_d = std::isfinite(tmax) ? 0.5 * (double(tmax) + double(std::nextafter(tmax, kInfinity))) : double(tmax);
+    Solver solver(g, tmin_d, tmax_d, size, offset, len, stats);
+    solver.set_float_window(ray.tmin, tmax);
     return solver.run(hit);
 }
 

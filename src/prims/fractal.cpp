@@ -82,14 +82,15 @@ bool sphere_segment(const FractalMarch& m, double radius, const Ray& ray, float 
 /// bisection between the last point outside and the first inside. A thin part of the
 /// eps-region that the ray crosses within one step's last eps (a grazing ray), or any part a
 /// step overshoots where DE overestimates the distance, is stepped over.
+/// The march gives up beyond `limit`, but its steps do not depend on it.
 template <class De>
-std::optional<double> march(const De& de, const FractalSegment& s, const FractalMarch& m) {
+std::optional<double> march(const De& de, const FractalSegment& s, const FractalMarch& m, double limit) {
     const double dlen = std::sqrt(s.d[0] * s.d[0] + s.d[1] * s.d[1] + s.d[2] * s.d[2]);
     auto at = [&](double t) { return D3{s.o[0] + t * s.d[0], s.o[1] + t * s.d[1], s.o[2] + t * s.d[2]}; };
     double t = s.t0;
     double dist = de(at(t));
     if (dist < m.epsilon) return t;
-    for (int i = 0; i < m.max_steps; ++i) {
+    for (int i = 0; i < m.max_steps && t <= limit; ++i) {
         double tn = t + m.step_factor * dist / dlen;
         const bool last = !(tn < s.t1);
         if (last) tn = s.t1;
@@ -110,6 +111,21 @@ std::optional<double> march(const De& de, const FractalSegment& s, const Fractal
         dist = dn;
     }
     return std::nullopt;
+}
+
+/// The first hit of the eps-region in [ray.tmin, tmax] (u = v = 0). The march runs over the whole
+/// segment inside the bounding sphere, not cut at tmax: a structure calls this with its current
+/// closest hit as tmax, and must get the same hit as brute force.
+template <class De>
+bool march_hit(const De& de, const FractalMarch& m, double radius, const Ray& ray, float tmax, ShapeHit& hit) {
+    // Hits up to the next float count: they round to tmax itself.
+    const double limit = double(std::nextafter(tmax, kInfinity));
+    FractalSegment seg;
+    if (!(ray.tmin <= tmax) || !sphere_segment(m, radius, ray, kInfinity, seg) || seg.t0 > limit) return false;
+    const auto t = march(de, seg, m, limit);
+    if (!t || !(float(*t) <= tmax)) return false;
+    hit = {float(*t), 0.0f, 0.0f};
+    return true;
 }
 
 /// Central differences of de at q with step h, normalized; radial or +z where they vanish.
@@ -197,12 +213,7 @@ bool Julia::object_segment(const Ray& ray, float tmax, FractalSegment& seg) cons
 }
 
 bool Julia::intersect(const Ray& ray, float tmax, ShapeHit& hit) const {
-    FractalSegment seg;
-    if (!object_segment(ray, tmax, seg)) return false;
-    const auto t = march([this](const D3& q) { return distance(q); }, seg, p_.march);
-    if (!t) return false;
-    hit = {float(*t), 0.0f, 0.0f};
-    return true;
+    return march_hit([this](const D3& q) { return distance(q); }, p_.march, bound_radius_, ray, tmax, hit);
 }
 
 Vec3 Julia::normal(Vec3 p, float, float) const {
@@ -259,12 +270,7 @@ bool Mandelbulb::object_segment(const Ray& ray, float tmax, FractalSegment& seg)
 }
 
 bool Mandelbulb::intersect(const Ray& ray, float tmax, ShapeHit& hit) const {
-    FractalSegment seg;
-    if (!object_segment(ray, tmax, seg)) return false;
-    const auto t = march([this](const D3& q) { return distance(q); }, seg, p_.march);
-    if (!t) return false;
-    hit = {float(*t), 0.0f, 0.0f};
-    return true;
+    return march_hit([this](const D3& q) { return distance(q); }, p_.march, bound_radius_, ray, tmax, hit);
 }
 
 Vec3 Mandelbulb::normal(Vec3 p, float, float) const {

@@ -142,8 +142,10 @@ double refine_root(const E& e, double lo, double hi, bool lo_negative, double to
 ///     both vanish in it, and it is accepted at its midpoint (Knoll's rule for double roots).
 /// Never misses a root: only intervals proven root-free are discarded. May accept a near miss
 /// where min |f| on T is below the mean-value form's overestimate, ~ |f''| tol^2 / 2.
+/// Spans beginning beyond `limit` are not searched (a root there would be rejected anyway), but
+/// the spans are the halvings of [a, b] whatever the limit, so the root found does not depend on it.
 template <class E>
-std::optional<double> isolate_first_root(const E& e, double a, double b, double tol) {
+std::optional<double> isolate_first_root(const E& e, double a, double b, double tol, double limit) {
     struct Span {
         double t0, t1;
     };
@@ -158,6 +160,7 @@ std::optional<double> isolate_first_root(const E& e, double a, double b, double 
     long budget = 1L << 20;
     while (n > 0) {
         const Span s = stack[--n];
+        if (s.t0 > limit) return std::nullopt;  // the top span is the leftmost pending one
         const Interval t(s.t0, s.t1);
         Interval f = e.value(t);
         if (!contains_zero(f)) continue;
@@ -187,14 +190,15 @@ std::optional<double> isolate_first_root(const E& e, double a, double b, double 
 /// Sphere tracing with a Lipschitz bound (Hart 1996): |f(t + dt)| >= |f(t)| - lip_t |dt|, so a
 /// step of |f| / lip_t cannot pass a root. Steps are at least min_dt (else the march would crawl
 /// towards a tangency forever); a sign change between two steps is refined by bisection. Two
-/// roots closer than min_dt (a grazing ray) can be stepped over; max_steps bounds the work.
+/// roots closer than min_dt (a grazing ray) can be stepped over; max_steps bounds the work. The
+/// march gives up beyond `limit`, but its steps do not depend on it.
 template <class E>
 std::optional<double> sphere_trace_first_root(const E& e, double a, double b, double lip_t, double min_dt,
-                                              int max_steps, double refine_tol) {
+                                              int max_steps, double refine_tol, double limit) {
     double t = a, f = e.value(a);
     if (f == 0.0) return a;
     const bool negative = f < 0.0;
-    for (int i = 0; i < max_steps; ++i) {
+    for (int i = 0; i < max_steps && t <= limit; ++i) {
         double tn = t + std::max(std::fabs(f) / lip_t, min_dt);
         const bool last = !(tn < b);
         if (last) tn = b;
@@ -324,20 +328,24 @@ bool ImplicitKernel<S>::object_segment(const Ray& ray, float tmax, Line3d& line,
 
 template <class S>
 bool ImplicitKernel<S>::intersect(const Ray& ray, float tmax, ShapeHit& hit) const {
+    // The search runs over the whole segment inside the box, not cut at tmax: a structure calls
+    // this with its current closest hit as tmax, and must get the same root as brute force.
     Line3d line;
     double t0, t1;
-    if (!object_segment(ray, tmax, line, t0, t1)) return false;
+    // Roots up to the next float count: they round to tmax itself.
+    const double limit = double(std::nextafter(tmax, kInfinity));
+    if (!(ray.tmin <= tmax) || !object_segment(ray, kInfinity, line, t0, t1) || t0 > limit) return false;
     const double dlen = std::sqrt(sqr(line.d[0]) + sqr(line.d[1]) + sqr(line.d[2]));
     if (!(dlen > 0.0) || !std::isfinite(dlen) || !std::isfinite(t0) || !std::isfinite(t1)) return false;
     const typename LineEvalFor<S>::type eval(surface_, line);
     const double tol = std::max(epsilon_ / dlen, (t1 - t0) * 0x1p-60);
     std::optional<double> root;
     if (options_.method == ImplicitMethod::interval)
-        root = isolate_first_root(eval, t0, t1, tol);
+        root = isolate_first_root(eval, t0, t1, tol, limit);
     else
-        root = sphere_trace_first_root(eval, t0, t1, lipschitz_ * dlen, tol, options_.max_steps, 1e-3 * tol);
-    if (!root) return false;
-    // t0 >= ray.tmin and t1 <= tmax are floats, so rounding the root to float stays within them.
+        root = sphere_trace_first_root(eval, t0, t1, lipschitz_ * dlen, tol, options_.max_steps, 1e-3 * tol, limit);
+    // ray.tmin <= root, a float, so the rounded root stays at or above it.
+    if (!root || !(float(*root) <= tmax)) return false;
     hit = {float(*root), 0.0f, 0.0f};
     return true;
 }

@@ -3,6 +3,8 @@
 // exact evaluation anywhere on a cage face (references and error measurement).
 #include "thicket/prims/subdivision.h"
 
+#include "thicket/core/hash.h"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -237,6 +239,13 @@ SubdivisionSurface::SubdivisionSurface(const ControlMesh& cage, int level)
 
 Aabb SubdivisionSurface::bounds() const { return impl_->bvh.bounds(); }
 int SubdivisionSurface::level() const { return impl_->level; }
+
+uint64_t SubdivisionSurface::hash(uint64_t h) const {
+    const TriangleMesh& m = impl_->tess.mesh;
+    h = fnv1a(&impl_->level, sizeof impl_->level, h);
+    h = fnv1a(m.positions.data(), m.positions.size() * sizeof(Vec3), h);
+    return fnv1a(m.indices.data(), m.indices.size() * sizeof(uint32_t), h);
+}
 const LimitTessellation& SubdivisionSurface::tessellation() const { return impl_->tess; }
 size_t SubdivisionSurface::triangle_count() const { return impl_->tess.mesh.triangle_count(); }
 

@@ -21,6 +21,8 @@ struct BezierSample {
 /// dP/du x dP/dv: for the teapot that is outward.
 class BezierPatch {
 public:
+    static constexpr const char* kName = "bezier";
+
     using ControlPoints = std::array<Vec3, 16>;  ///< index 4 * j + i: row j (v), column i (u)
 
     /// A patch with all 16 control points at the origin. A patch whose control points all

@@ -14,13 +14,17 @@
 #include <variant>
 
 #include "thicket/core/hash.h"
+#include "thicket/prims/bezier.h"
+#include "thicket/prims/fractal.h"
+#include "thicket/prims/implicit.h"
 #include "thicket/prims/shape.h"
 #include "thicket/prims/sphere.h"
+#include "thicket/prims/subdivision.h"
 #include "thicket/prims/torus.h"
 
 namespace thicket {
 
-using Shape = std::variant<Sphere, Torus>;
+using Shape = std::variant<Sphere, Torus, BezierPatch, SubdivisionSurface, Implicit, Blobs, Julia, Mandelbulb>;
 
 /// The JSON "type" name of kernel S ("shape" when it has none).
 template <class S>

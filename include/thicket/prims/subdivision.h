@@ -64,6 +64,8 @@ TessellationError tessellation_error(const ControlMesh& cage, int level);
 /// The kernel. Cheap to copy (the tessellation and its BVH are shared, immutable).
 class SubdivisionSurface {
 public:
+    static constexpr const char* kName = "subdivision";
+
     /// Tessellates `cage` at `level` (see tessellate_limit) and builds the BVH.
     SubdivisionSurface(const ControlMesh& cage, int level);
 
@@ -74,6 +76,9 @@ public:
     /// The limit normals of the triangle nearest to p, interpolated (Phong) and normalized;
     /// (u, v) are not needed: the triangle is found from p with the BVH.
     Vec3 normal(Vec3 p, float u, float v) const;
+
+    /// FNV-1a of the level and the tessellation (positions and indices): the scene fingerprint.
+    uint64_t hash(uint64_t seed) const;
 
     int level() const;
     const LimitTessellation& tessellation() const;
