@@ -239,6 +239,8 @@ private:
 class PlyParser {
 public:
     PlyParser(const std::string& path, FileBytes data) : path_(path), data_(std::move(data)) {}
+    /// Also records every face's vertex count (its fan has count - 2 triangles) into `sizes`.
+    void record_polygon_sizes(std::vector<uint32_t>& sizes) { polygon_sizes_ = &sizes; }
 
     TriangleMesh parse() {
         parse_header();
@@ -449,6 +451,7 @@ private:
             const unsigned n = *src.cursor();
             if (src.remaining() < 1 + 4 * size_t(n)) fail(row_context(e, row) + ": unexpected end of file");
             if (n < 3) fail_polygon_size(row, n);
+            if (polygon_sizes_) polygon_sizes_->push_back(n);
             if (n == 3)
                 std::memcpy(poly, src.cursor() + 1, 12);  // fixed size: no memcpy dispatch
             else
@@ -517,6 +520,7 @@ private:
                     continue;
                 }
                 if (n < 3) fail_polygon_size(row, n);
+                if (polygon_sizes_) polygon_sizes_->push_back(uint32_t(n));
                 if (!src.can_hold(p.type, n))
                     fail(row_context(e, row) + ", list '" + p.name + "' of " + std::to_string(n) +
                          " items: " + src.problem());
@@ -548,6 +552,7 @@ private:
     size_t vertex_elem_ = npos, face_elem_ = npos, index_prop_ = npos;
     size_t xyz_[3] = {npos, npos, npos};
     TriangleMesh mesh_;
+    std::vector<uint32_t>* polygon_sizes_ = nullptr;
 };
 
 }  // namespace
@@ -556,6 +561,13 @@ private:
 /// thicket::Error("<path>: ...") for unreadable, malformed, truncated or unsupported files.
 TriangleMesh load_ply(const std::string& path) {
     PlyParser parser(path, read_whole_file(path));
+    return parser.parse();
+}
+
+TriangleMesh load_ply(const std::string& path, std::vector<uint32_t>& polygon_sizes) {
+    PlyParser parser(path, read_whole_file(path));
+    polygon_sizes.clear();
+    parser.record_polygon_sizes(polygon_sizes);
     return parser.parse();
 }
 

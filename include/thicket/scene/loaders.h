@@ -9,6 +9,9 @@
 namespace thicket {
 
 TriangleMesh load_ply(const std::string& path);
+/// load_ply() that also gives each face's vertex count in file order: face f (n vertices) is
+/// the fan of n - 2 triangles v0 v1 v2, v0 v2 v3, ..., so the polygons can be rebuilt exactly.
+TriangleMesh load_ply(const std::string& path, std::vector<uint32_t>& polygon_sizes);
 TriangleMesh load_obj(const std::string& path);
 TriangleMesh load_gltf(const std::string& path);  ///< .gltf or .glb; node transforms applied
 TriangleMesh builtin_cornell_box();
