@@ -1,6 +1,7 @@
 #pragma once
 // Reading one shape object of a JSON scene: typed field accessors whose errors name the file,
 // the shape (index and type) and the field, and the table of shape parsers by "type".
+#include <cstdint>
 #include <filesystem>
 #include <span>
 #include <string>
@@ -28,8 +29,16 @@ public:
     Vec3 vec3(const char* key);
     /// Three finite numbers, not all zero, normalized (in double, then rounded).
     Vec3 direction(const char* key);
-    /// Exactly `n` finite numbers, in double.
+    /// For numbers() and points(): an array of any length but zero.
+    static constexpr size_t kAnyCount = 0;
+    /// Exactly `n` (or with kAnyCount one or more) finite numbers, in double.
     std::vector<double> numbers(const char* key, size_t n);
+    /// Exactly `n` (or with kAnyCount one or more) points [x, y, z], finite as floats.
+    std::vector<Vec3> points(const char* key, size_t n);
+    /// An integral number in [lo, hi] (3 and 3.0 are both integers).
+    long integer(const char* key, long lo, long hi);
+    /// A non-empty array of arrays of non-negative integers (a polygon list).
+    std::vector<std::vector<uint32_t>> index_lists(const char* key);
     /// A non-empty string.
     std::string string(const char* key);
     /// A string naming an existing file, relative paths taken from the scene file's directory.

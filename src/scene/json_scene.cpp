@@ -105,18 +105,74 @@ float ShapeFields::positive(const char* key) {
 
 std::vector<double> ShapeFields::numbers(const char* key, size_t n) {
     const json& v = require(key);
-    if (!v.is_array() || v.size() != n)
-        fail(key, "must be an array of " + std::to_string(n) + " numbers, got " +
+    const bool any = n == kAnyCount;
+    if (!v.is_array() || (any ? v.empty() : v.size() != n))
+        fail(key, "must be an array of " + (any ? std::string("one or more") : std::to_string(n)) + " numbers, got " +
                       (v.is_array() ? "an array of " + std::to_string(v.size()) : std::string(kind_of(v))) + " " +
                       describe(v));
     std::vector<double> out;
-    for (size_t i = 0; i < n; ++i) {
+    for (size_t i = 0; i < v.size(); ++i) {
         if (!v[i].is_number())
             fail(key, "element " + std::to_string(i) + " must be a number, got " + kind_of(v[i]) + " " + describe(v[i]));
         out.push_back(v[i].get<double>());
         if (!is_float_finite(out.back()))
             fail(key, "element " + std::to_string(i) + " must be a finite number within the float range, got " +
                           describe(v[i]));
+    }
+    return out;
+}
+
+std::vector<Vec3> ShapeFields::points(const char* key, size_t n) {
+    const json& v = require(key);
+    const bool any = n == kAnyCount;
+    if (!v.is_array() || (any ? v.empty() : v.size() != n))
+        fail(key, "must be an array of " + (any ? std::string("one or more") : std::to_string(n)) +
+                      " points [x, y, z], got " +
+                      (v.is_array() ? "an array of " + std::to_string(v.size()) : std::string(kind_of(v))) + " " +
+                      describe(v));
+    std::vector<Vec3> out;
+    for (size_t i = 0; i < v.size(); ++i) {
+        const json& p = v[i];
+        if (!p.is_array() || p.size() != 3)
+            fail(key, "element " + std::to_string(i) + " must be a point [x, y, z], got " + describe(p));
+        double c[3];
+        for (int k = 0; k < 3; ++k) {
+            if (!p[k].is_number() || !is_float_finite(p[k].get<double>()))
+                fail(key, "element " + std::to_string(i) + " must be a point of 3 finite numbers within the float "
+                          "range, got " + describe(p));
+            c[k] = p[k].get<double>();
+        }
+        out.push_back({float(c[0]), float(c[1]), float(c[2])});
+    }
+    return out;
+}
+
+long ShapeFields::integer(const char* key, long lo, long hi) {
+    const json& v = require(key);
+    const bool integral = v.is_number_integer() || (v.is_number_float() && std::isfinite(v.get<double>()) &&
+                                                    std::floor(v.get<double>()) == v.get<double>());
+    if (!integral) fail(key, std::string("must be an integer, got ") + kind_of(v) + " " + describe(v));
+    const double x = v.get<double>();
+    if (x < double(lo) || x > double(hi))
+        fail(key, "must be an integer from " + std::to_string(lo) + " to " + std::to_string(hi) + ", got " + describe(v));
+    return long(x);
+}
+
+std::vector<std::vector<uint32_t>> ShapeFields::index_lists(const char* key) {
+    const json& v = require(key);
+    if (!v.is_array() || v.empty())
+        fail(key, std::string("must be a non-empty array of index arrays, got ") + kind_of(v) + " " + describe(v));
+    std::vector<std::vector<uint32_t>> out;
+    for (size_t i = 0; i < v.size(); ++i) {
+        const json& list = v[i];
+        if (!list.is_array()) fail(key, "element " + std::to_string(i) + " must be an array of indices, got " + describe(list));
+        std::vector<uint32_t> indices;
+        for (const json& x : list) {
+            if (!x.is_number_unsigned() || x.get<uint64_t>() > 0xffffffffu)
+                fail(key, "element " + std::to_string(i) + " must hold indices (integers >= 0), got " + describe(list));
+            indices.push_back(uint32_t(x.get<uint64_t>()));
+        }
+        out.push_back(std::move(indices));
     }
     return out;
 }

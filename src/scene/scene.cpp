@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "thicket/core/error.h"
+#include "thicket/prims/teapot_patches.h"
 #include "thicket/scene/loaders.h"
 
 namespace thicket {
@@ -159,13 +160,17 @@ TriangleMesh load_mesh(const std::string& path) {
                 " (supported: .ply, .obj, .gltf, .glb)");
 }
 
-const char* builtin_scene_names() { return "cornell"; }
+const char* builtin_scene_names() { return "cornell, teapot-patches"; }
 
 Scene load_scene(const std::string& path_or_builtin) {
     Scene scene;
     scene.name = path_or_builtin;
     if (path_or_builtin == "cornell") {
         scene.mesh = builtin_cornell_box();
+        return scene;
+    }
+    if (path_or_builtin == "teapot-patches") {
+        for (const BezierPatch& patch : teapot_patches()) scene.add_shape(patch);
         return scene;
     }
     const std::string& path = path_or_builtin;

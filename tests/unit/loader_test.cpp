@@ -600,7 +600,8 @@ TEST(LoaderScene, DispatchAndErrors) {
     expect_error([&] { load_scene(none); }, none, {"cornell"});
     expect_error([&] { load_scene(tmp.dir()); }, tmp.dir(), {"directory"});
     expect_error([&] { load_scene(tmp.dir() + "/nope.ply"); }, tmp.dir() + "/nope.ply", {"no such file"});
-    EXPECT_STREQ(builtin_scene_names(), "cornell");
+    EXPECT_STREQ(builtin_scene_names(), "cornell, teapot-patches");
+    expect_error([&] { load_scene(none); }, none, {"teapot-patches"});
 }
 
 TEST(LoaderScene, CornellBuiltin) {

@@ -8,8 +8,9 @@
 namespace thicket::cli {
 
 std::string scene_help() {
-    return std::string("scene to load: a .ply, .obj, .gltf or .glb file, a .json scene of meshes, spheres and tori "
-                       "(docs/shapes.md), or a built-in scene (") +
+    return std::string("scene to load: a .ply, .obj, .gltf or .glb file, a .json scene of meshes and shapes "
+                       "(sphere, torus, bezier, teapot-patches, subdivision, implicit, blobs, julia, mandelbulb: docs/shapes.md), "
+                       "or a built-in scene (") +
            builtin_scene_names() + ")";
 }
 

@@ -64,7 +64,8 @@ struct Scene {
 };
 
 /// Loads a scene from a PLY, OBJ, glTF (.gltf/.glb) or JSON scene (.json, docs/shapes.md) file,
-/// or a built-in name (`cornell`). Throws thicket::Error naming the file and what is wrong.
+/// or a built-in name (`cornell`; `teapot-patches`: the 32 Bezier patches of the Utah teapot).
+/// Throws thicket::Error naming the file and what is wrong.
 Scene load_scene(const std::string& path_or_builtin);
 
 /// Names of the built-in scenes, for --help texts.
