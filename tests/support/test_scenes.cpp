@@ -9,6 +9,9 @@
 #include <optional>
 #include <random>
 
+#include "thicket/prims/control_mesh.h"
+#include "thicket/prims/teapot_patches.h"
+
 namespace thicket::testing {
 
 namespace {
@@ -137,6 +140,46 @@ void add_shape_rays(const Scene& scene, size_t share, std::mt19937& rng, std::ve
     }
 }
 
+/// A Bezier patch moved by `by` after scaling by `scale` (exact: patches are affinely invariant).
+BezierPatch placed(const BezierPatch& p, Vec3 by, float scale) {
+    BezierPatch::ControlPoints cp = p.control_points();
+    for (Vec3& c : cp) c = by + c * scale;
+    return BezierPatch(cp);
+}
+
+/// The complex kernels (Bezier patches, a subdivision surface, implicit surfaces by both methods,
+/// blobs, both fractals), placed among the spheres, tori and triangles so that boxes overlap.
+void add_complex_shapes(Scene& s) {
+    for (const BezierPatch& p : teapot_patches()) s.add_shape(placed(p, {-0.3f, -0.5f, -0.9f}, 0.12f));  // on the floor
+    {
+        ControlMesh cage = cube_control_mesh();
+        for (Vec3& p : cage.positions) p = Vec3{0.8f, -0.3f, 0.8f} + p * 0.2f;
+        s.add_shape(SubdivisionSurface(cage, 2));
+    }
+    auto placement = [](Vec3 center, float scale, ImplicitMethod method) {
+        ImplicitOptions o;
+        o.center = center;
+        o.scale = scale;
+        o.method = method;
+        return o;
+    };
+    s.add_shape(Implicit("tangle-cube", placement({-0.9f, 0.1f, -0.2f}, 0.12f, ImplicitMethod::interval)));
+    s.add_shape(Implicit("barth-sextic", placement({0.2f, 0.8f, -0.7f}, 0.25f, ImplicitMethod::interval), 1.0));
+    s.add_shape(Implicit("tangle-cube", placement({0.9f, 0.9f, 0.9f}, 0.1f, ImplicitMethod::sphere_tracing)));
+    s.add_shape(Blobs(BlobSum{{Blob{{0, 0, 0}, 0.5, 1}, Blob{{0.6, 0.2, 0}, 0.4, 1}, Blob{{0.2, 0.6, 0.3}, 0.45, 0.8}}, 0.3},
+                      placement({-0.3f, 0.3f, 0.9f}, 0.5f, ImplicitMethod::interval)));
+    Julia::Params julia;
+    julia.march.center = {0.8f, 0.6f, 0.2f};
+    julia.march.scale = 0.25f;
+    julia.march.iterations = 8;
+    s.add_shape(Julia(julia));
+    Mandelbulb::Params bulb;
+    bulb.march.center = {-0.8f, -0.1f, -0.7f};
+    bulb.march.scale = 0.25f;
+    bulb.march.iterations = 6;
+    s.add_shape(Mandelbulb(bulb));
+}
+
 }  // namespace
 
 Scene mixed_scene() {
@@ -161,6 +204,7 @@ Scene mixed_scene() {
     s.add_shape(Sphere{{0.3f, -0.7f, 0.4f}, 1e-4f});                 // tiny, in its hole
     s.add_shape(Torus{{0.5f, 0.5f, -0.5f}, normalize(Vec3{0.3f, -0.2f, 0.9f}), 0.3f, 0.02f});  // thin
     s.add_shape(Sphere{{0, -1e4f - 1.2f, 0}, 1e4f});  // huge: most ray origins lie inside it
+    add_complex_shapes(s);
     return s;
 }
 

@@ -14,9 +14,10 @@ namespace thicket::testing {
 /// triangles mixed with shapes (mixed_scene()). The last one is the random soup.
 std::vector<Scene> nasty_scenes();
 
-/// Triangles, spheres and tori with interleaved ids: overlapping, touching and coincident shapes,
-/// a sphere in a torus's hole, tiny ones (1e-4) and a huge one (radius 1e4) that holds most ray
-/// origins inside it.
+/// Triangles and every shape kernel with interleaved ids: overlapping, touching and coincident
+/// spheres and tori, a sphere in a torus's hole, tiny ones (1e-4) and a huge one (radius 1e4) that
+/// holds most ray origins inside it; the teapot's 32 Bezier patches, a subdivision surface,
+/// implicit surfaces (interval and sphere tracing), blobs, a Julia set and a Mandelbulb.
 Scene mixed_scene();
 
 /// A random unit vector (normal distribution, normalized), for tests that shoot from every side.
