@@ -4,10 +4,20 @@
 ///   thicket::Scene scene = thicket::load_scene("bunny.ply");
 ///   auto accel = thicket::build_accel("bvh:builder=sweep-sah", scene);
 ///   thicket::Hit hit = accel->intersect({{0, 0.1f, 1}, 0.0f, {0, 0, -1}, thicket::kInfinity});
+///
+/// The structures by name (one folder each) for users who build them directly, and the shape
+/// kernels a Scene can hold next to triangles (prims/shapes.h).
 #include "thicket/accel/accel.h"
 #include "thicket/accel/registry.h"
+#include "thicket/bih/bih.h"
 #include "thicket/brute/brute_force.h"
+#include "thicket/bsp/bsp.h"
 #include "thicket/bvh/bvh.h"
 #include "thicket/core/error.h"
+#include "thicket/grid/grid.h"
+#include "thicket/grid/grid2.h"
+#include "thicket/kdtree/kdtree.h"
+#include "thicket/octree/octree.h"
+#include "thicket/prims/shapes.h"
 #include "thicket/prims/triangles.h"
 #include "thicket/scene/scene.h"
