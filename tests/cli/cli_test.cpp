@@ -18,6 +18,7 @@
 #include <utility>
 #include <vector>
 
+#include "support/cli_run.h"
 #include "thicket/accel/registry.h"
 #include "thicket/util/npy.h"
 
@@ -28,29 +29,10 @@ namespace {
 
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
-struct RunResult {
-    int code = -1;
-    std::string output;  // stdout and stderr together
-};
-
-std::string quote(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
-
-RunResult run_cli(const std::string& args) {
-    RunResult r;
-    const std::string cmd = quote(THICKET_CLI) + " " + args + " 2>&1";
-    FILE* pipe = popen(cmd.c_str(), "r");
-    if (!pipe) return r;
-    char buf[4096];
-    size_t n;
-    while ((n = fread(buf, 1, sizeof buf, pipe)) > 0) r.output.append(buf, n);
-    const int status = pclose(pipe);
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
+using RunResult = thicket::testing::CliResult;
+using thicket::testing::run_thicket;
+std::string quote(const std::string& s) { return thicket::testing::shell_quote(s); }
+RunResult run_cli(const std::string& args) { return run_thicket(args); }
 
 // The validity rule `thicket trace` documents: such rays are answered as misses.
 bool valid_ray_row(const float* r) {

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "support/cli_run.h"
 #include "support/xml_check.h"
 #include "thicket/accel/registry.h"
 
@@ -26,16 +27,8 @@ using thicket::test::xml_wellformedness_error;
 
 namespace {
 
-struct Result {
-    int code = -1;
-    std::string output;  // stdout and stderr together
-};
-
-std::string quote(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
+using Result = thicket::testing::CliResult;
+using thicket::testing::shell_quote;
 
 std::string read_all(const fs::path& p) {
     std::ifstream in(p, std::ios::binary);
@@ -73,18 +66,7 @@ protected:
     }
 
     // Runs `thicket ARGS` in the test's directory.
-    Result run(const std::string& args) const {
-        Result r;
-        const std::string cmd = "cd " + quote(dir_.string()) + " && " + quote(THICKET_CLI) + " " + args + " 2>&1";
-        FILE* pipe = popen(cmd.c_str(), "r");
-        if (!pipe) return r;
-        char buf[4096];
-        size_t n;
-        while ((n = fread(buf, 1, sizeof buf, pipe)) > 0) r.output.append(buf, n);
-        const int status = pclose(pipe);
-        r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        return r;
-    }
+    Result run(const std::string& args) const { return thicket::testing::run_thicket(args, dir_.string()); }
 
     fs::path dir_;
 };
