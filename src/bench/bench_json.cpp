@@ -72,6 +72,7 @@ std::string bench_rows_json(std::span<const BenchRow> rows) {
         ObjectWriter o(out);
         o.str("scene", r.scene);
         o.integer("primitives", r.primitives);
+        o.integer("shapes", r.shapes);
         o.str("accel", r.accel);
         o.str("spec", r.spec);
         o.str("set", r.set);

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "thicket/bench/agreement.h"
+#include "thicket/bench/number_text.h"
 #include "thicket/bench/text_table.h"
 
 namespace thicket {
@@ -15,32 +16,9 @@ namespace {
 
 using Align = TextTable::Align;
 
-std::string printf_string(const char* format, double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, format, v);
-    return buf;
-}
-
-// About three significant digits, for rates and per-ray averages; tiny rates (brute force on a large
-// scene) keep two significant digits rather than rounding to zero.
-std::string fixed3(double v) {
-    if (!std::isfinite(v)) return "-";
-    if (v == 0.0) return "0";
-    const double a = std::fabs(v);
-    if (a < 0.1) return printf_string("%.2g", v);
-    return printf_string(a >= 100 ? "%.0f" : a >= 10 ? "%.1f" : a >= 1 ? "%.2f" : "%.3f", v);
-}
+std::string fixed3(double v) { return three_digits(v, "-"); }
 
 std::string ratio_text(double r) { return r < 0.01 ? "<0.01x" : printf_string("%.2fx", r); }
-
-std::string grouped(size_t n) {
-    std::string digits = std::to_string(n), out;
-    for (size_t i = 0; i < digits.size(); ++i) {
-        if (i && (digits.size() - i) % 3 == 0) out += ',';
-        out += digits[i];
-    }
-    return out;
-}
 
 std::string bytes_text(double bytes) {
     static const char* const units[] = {"B", "KiB", "MiB", "GiB"};
@@ -117,7 +95,7 @@ std::string scene_section(const SceneRows& scene, TableStyle style) {
         first.rounds > 1 ? "; median (slowest-fastest) over " + std::to_string(first.rounds) +
                                " rounds of the median of " + passes
                          : "; median (slowest-fastest) of " + passes;
-    const std::string about = grouped(first.primitives) + " triangles; rays: " + rays_text + timing + ", on " +
+    const std::string about = primitives_text(first.primitives, first.shapes) + "; rays: " + rays_text + timing + ", on " +
                               threads_text + " thread" + (threads.size() > 1 || threads[0] > 1 ? "s" : "");
     out += md ? "### " + scene.scene + "\n\n" + about + ".\n\n" : "== " + scene.scene + ": " + about + "\n\n";
 

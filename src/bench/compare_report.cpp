@@ -6,6 +6,7 @@
 
 #include "thicket/bench/bench_json.h"
 #include "thicket/bench/svg_plot.h"
+#include "thicket/bench/number_text.h"
 #include "thicket/bench/text_table.h"
 
 namespace thicket {
@@ -15,29 +16,7 @@ namespace {
 using Align = TextTable::Align;
 const std::string kDash = "\u2014";  // em dash: not measured, or undefined for this structure
 
-std::string printf_string(const char* format, double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, format, v);
-    return buf;
-}
-
-// About three significant digits; tiny rates (brute force) keep two rather than rounding to zero.
-std::string fixed3(double v) {
-    if (!std::isfinite(v)) return kDash;
-    if (v == 0.0) return "0";
-    const double a = std::fabs(v);
-    if (a < 0.1) return printf_string("%.2g", v);
-    return printf_string(a >= 100 ? "%.0f" : a >= 10 ? "%.1f" : a >= 1 ? "%.2f" : "%.3f", v);
-}
-
-std::string grouped(size_t n) {
-    std::string digits = std::to_string(n), out;
-    for (size_t i = 0; i < digits.size(); ++i) {
-        if (i && (digits.size() - i) % 3 == 0) out += ',';
-        out += digits[i];
-    }
-    return out;
-}
+std::string fixed3(double v) { return three_digits(v, kDash); }
 
 std::vector<unsigned> thread_counts(const std::vector<const CompareRow*>& rows) {
     std::vector<unsigned> threads;
@@ -113,7 +92,7 @@ std::string scene_section(const std::vector<const CompareRow*>& rows, const Comp
     const CompareRow& first = *rows.front();
 
     std::string out;
-    const std::string about = grouped(first.primitives) + " triangles; primary rays " +
+    const std::string about = primitives_text(first.primitives, first.shapes) + "; primary rays " +
                               std::to_string(settings.width) + "x" + std::to_string(settings.height) +
                               "; Mrays/s on " + threads_text(threads) + "; builds on 1 thread";
     out += md ? "### " + first.scene + "\n\n" + about + ".\n\n" : "== " + first.scene + ": " + about + "\n\n";
@@ -303,6 +282,7 @@ std::string compare_json(std::span<const CompareRow> rows, const CompareSettings
         ObjectWriter o(list);
         o.str("scene", r.scene);
         o.integer("primitives", r.primitives);
+        o.integer("shapes", r.shapes);
         o.str("accel", r.accel);
         o.str("spec", r.spec);
         o.str("partitioning", partitioning_name(r.partitioning));

@@ -199,6 +199,7 @@ std::vector<BenchRow> bench_scene(const Scene& scene, const std::string& label, 
                 BenchRow row;
                 row.scene = label;
                 row.primitives = scene.primitive_count();
+                row.shapes = scene.shapes.size();
                 row.accel = factory->name;
                 row.spec = fig.spec;
                 row.set = set.name;

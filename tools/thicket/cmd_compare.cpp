@@ -153,6 +153,7 @@ CompareRow compare_one(const Scene& scene, const std::string& label, const std::
     CompareRow row;
     row.scene = label;
     row.primitives = scene.primitive_count();
+    row.shapes = scene.shapes.size();
     row.accel = spec;
     row.spec = parse_accel_spec(spec).str();
     row.partitioning = spec_partitioning(spec);

@@ -13,6 +13,7 @@ inline constexpr double kDisturbedUtilization = 0.9;
 struct BenchRow {
     std::string scene;      ///< scene label (file name)
     size_t primitives = 0;
+    size_t shapes = 0;      ///< of the primitives, shapes; the rest are triangles
     std::string accel;      ///< as asked for (a spec, or "embree-medium" / "embree-high")
     std::string spec;       ///< canonical spec, or the backend's description
     std::string set;        ///< ray set name

@@ -77,6 +77,7 @@ Growth measure_growth(const std::string& spec, std::span<const Scene> sized, con
 struct CompareRow {
     std::string scene;   ///< scene label
     size_t primitives = 0;
+    size_t shapes = 0;   ///< of the primitives, shapes; the rest are triangles
     std::string accel;   ///< as asked for
     std::string spec;    ///< canonical
     Partitioning partitioning = Partitioning::Unknown;
