@@ -1,0 +1,162 @@
+// JSON scenes through the `thicket` command: one scene holding a mesh and every shape kind is
+// accepted by info, trace, render and bench; trace answers with ids in file order and agrees with
+// brute force in-process; the normal view is the same picture through different structures; a bad
+// scene fails with a message naming the shape and field and writes nothing.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "support/cli_run.h"
+#include "thicket/accel/registry.h"
+#include "thicket/util/npy.h"
+
+#define STB_IMAGE_IMPLEMENTATION
+#define STB_IMAGE_STATIC
+#define STBI_ONLY_PNG
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-function"
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#pragma GCC diagnostic ignored "-Wsign-compare"
+#include <stb/stb_image.h>
+#pragma GCC diagnostic pop
+
+namespace fs = std::filesystem;
+using namespace thicket;
+using thicket::testing::run_thicket;
+using thicket::testing::shell_quote;
+
+namespace {
+
+// Ids in file order: the quad's 2 triangles (0 below its diagonal, 1 above), sphere 2, torus 3, teapot patches 4..35,
+// subdivision 36, implicit 37, blobs 38, julia 39, mandelbulb 40. Shapes sit along x, 3 apart.
+constexpr const char* kScene = R"({"shapes": [
+  {"type": "mesh", "file": "quad.obj"},
+  {"type": "sphere", "center": [0, 0, 0], "radius": 1},
+  {"type": "torus", "center": [3, 0, 0], "axis": [0, 0, 1], "major_radius": 1, "minor_radius": 0.3},
+  {"type": "teapot-patches", "transform": [0.4,0,0,6, 0,0.4,0,-0.6, 0,0,0.4,0, 0,0,0,1]},
+  {"type": "subdivision", "cage": "cube", "level": 2, "transform": [0.7,0,0,9, 0,0.7,0,0, 0,0,0.7,0, 0,0,0,1]},
+  {"type": "implicit", "surface": "tangle-cube", "center": [12, 0, 0], "scale": 0.4},
+  {"type": "blobs", "centers": [[0, 0, 0], [0.5, 0, 0]], "radii": [1, 1], "threshold": 0.3, "center": [15, 0, 0]},
+  {"type": "julia", "center": [18, 0, 0]},
+  {"type": "mandelbulb", "center": [21, 0, 0]}
+]})";
+
+class JsonSceneCli : public ::testing::Test {
+protected:
+    void SetUp() override {
+        if (std::string(THICKET_CLI).empty()) GTEST_SKIP() << "the thicket executable was not built";
+        dir_ = fs::temp_directory_path() / ("thicket_json_cli_" + std::to_string(getpid()) + "_" +
+                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+        // A quad at z = -5 behind the row of shapes, from x = -2 to 23.
+        write("quad.obj", "v -2 -2 -5\nv 23 -2 -5\nv 23 2 -5\nv -2 2 -5\nf 1 2 3 4\n");
+        write("scene.json", kScene);
+    }
+    void TearDown() override {
+        if (!dir_.empty()) fs::remove_all(dir_);
+    }
+    void write(const std::string& name, const std::string& text) const { std::ofstream(dir_ / name) << text; }
+    std::string q(const std::string& name) const { return shell_quote((dir_ / name).string()); }
+
+    fs::path dir_;
+};
+
+TEST_F(JsonSceneCli, InfoCountsEveryKind) {
+    const auto r = run_thicket("info " + q("scene.json"));
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("39 (1 sphere, 1 torus, 32 bezier, 1 subdivision, 1 implicit, 1 blobs, 1 julia, 1 mandelbulb)"),
+              std::string::npos)
+        << r.output;
+    EXPECT_NE(r.output.find("41 (ids in file order"), std::string::npos) << r.output;
+}
+
+TEST_F(JsonSceneCli, TraceAnswersWithFileOrderIdsLikeBruteForce) {
+    // One ray down -z at the centre of each shape (from z = 5), one at the quad, one that misses.
+    const float xs[] = {0, 3.0f + 1.0f, 6.37f, 9, 12.0f + 0.65f, 15.25f, 18, 21, -1.5f, 30};
+    std::vector<float> rows;
+    for (float x : xs) rows.insert(rows.end(), {x, 0.3f, 5, 0, 0, -1, 0, kInfinity});
+    write_npy_f32((dir_ / "rays.npy").string(), {rows.size() / 8, 8}, rows);
+
+    const Scene scene = load_scene((dir_ / "scene.json").string());
+    const auto brute = build_accel("brute", scene);
+    const uint32_t want_prim[] = {2, 3, kNoPrim, 36, 37, 38, 39, 40, 1, kNoPrim};
+    for (const char* accel : {"bvh", "kdtree", "grid", "bsp"}) {
+        SCOPED_TRACE(accel);
+        const auto r = run_thicket(std::string("trace ") + q("scene.json") + " --accel " + accel + " --rays " + q("rays.npy") +
+                                   " -o " + q("hits.npy"));
+        ASSERT_EQ(r.code, 0) << r.output;
+        const std::vector<Hit> hits = read_npy_hits((dir_ / "hits.npy").string());
+        ASSERT_EQ(hits.size(), std::size(xs));
+        for (size_t i = 0; i < hits.size(); ++i) {
+            const Ray ray{{rows[8 * i], rows[8 * i + 1], rows[8 * i + 2]}, 0.0f, {0, 0, -1}, kInfinity};
+            const Hit want = brute->intersect(ray);
+            EXPECT_EQ(hits[i].prim, want.prim) << "ray " << i;
+            EXPECT_EQ(hits[i].t, want.t) << "ray " << i;
+            if (want_prim[i] != kNoPrim) {
+                EXPECT_EQ(hits[i].prim, want_prim[i]) << "ray " << i;
+            }
+        }
+        // The teapot's ray hits one of its 32 patches (ids 4..35).
+        EXPECT_GE(hits[2].prim, 4u);
+        EXPECT_LE(hits[2].prim, 35u);
+    }
+}
+
+TEST_F(JsonSceneCli, NormalViewIsTheSamePictureThroughEveryStructure) {
+    std::vector<std::vector<unsigned char>> images;
+    for (const char* accel : {"brute", "bvh", "kdtree", "octree", "bih"}) {
+        const std::string out = std::string(accel) + ".png";
+        const auto r = run_thicket("render " + q("scene.json") + " --accel " + accel +
+                                   " --size 160x40 --camera 10.5,0,9,10.5,0,0,40 -o " + q(out));
+        ASSERT_EQ(r.code, 0) << accel << ": " << r.output;
+        int w = 0, h = 0, c = 0;
+        unsigned char* px = stbi_load((dir_ / out).string().c_str(), &w, &h, &c, 3);
+        ASSERT_NE(px, nullptr) << accel;
+        ASSERT_EQ(w, 160);
+        images.emplace_back(px, px + size_t(w) * size_t(h) * 3);
+        stbi_image_free(px);
+    }
+    size_t background = 0;
+    for (size_t i = 0; i < images[0].size(); i += 3) background += images[0][i] == 0 && images[0][i + 1] == 0 && images[0][i + 2] == 0;
+    EXPECT_LT(background, images[0].size() / 3 * 3 / 4) << "the shapes and the quad fill a good part of the view";
+    for (size_t k = 1; k < images.size(); ++k) {
+        size_t differ = 0;
+        for (size_t i = 0; i < images[0].size(); ++i) differ += images[k][i] != images[0][i];
+        // Patch borders shared by two patches are ties whose normals differ in the last bits.
+        EXPECT_LE(differ, images[0].size() / 1000) << "structure " << k << " differs from brute force";
+    }
+}
+
+TEST_F(JsonSceneCli, BenchLeavesEmbreeOutAndCountsPrimitives) {
+    const auto r = run_thicket("bench " + q("scene.json") + " --accel bvh --sets primary --size 24x16 --reps 1 --json " +
+                               q("b.json"));
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("embree  left out for this scene"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("41 primitives (2 triangles, 39 shapes)"), std::string::npos) << r.output;
+    std::ifstream in(dir_ / "b.json");
+    const std::string json{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    EXPECT_NE(json.find("\"shapes\": 39"), std::string::npos) << json.substr(0, 400);
+}
+
+TEST_F(JsonSceneCli, BuiltInTeapotPatchesRenders) {
+    const auto r = run_thicket("render teapot-patches --size 48x32 -o " + q("t.png"));
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_TRUE(fs::exists(dir_ / "t.png"));
+}
+
+TEST_F(JsonSceneCli, BadSceneNamesShapeAndFieldAndWritesNothing) {
+    write("bad.json", R"({"shapes": [{"type": "sphere", "center": [0,0,0], "radius": 1},
+                                      {"type": "julia", "iterations": 2.5}]})");
+    const auto r = run_thicket("render " + q("bad.json") + " -o " + q("out.png"));
+    EXPECT_EQ(r.code, 1) << r.output;
+    EXPECT_NE(r.output.find("shape 1 (julia): field 'iterations': must be an integer"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir_ / "out.png"));
+}
+
+}  // namespace
