@@ -57,12 +57,18 @@ public:
         s.max_depth = f.max_depth;
         s.bytes = data_.nodes.size() * sizeof(BspNode) + data_.refs.size() * sizeof(uint32_t);
         s.primitive_bytes = prims_.bytes();
-        s.sah_cost = f.sah_cost;
         auto num = [](double v, const char* fmt = "%.3g") {
             char buf[64];
             std::snprintf(buf, sizeof buf, fmt, v);
             return std::string(buf);
         };
+        // Cell boxes are the true cells only when every plane is axis-aligned; oblique cuts
+        // barely shrink them, so the figure is an upper bound that no other structure's SAH cost
+        // compares with (252,057 against the BVH's 51 on the dragon): reported apart, not as one.
+        if (sp.polygons)
+            s.extra.emplace_back("SAH cost over cell boxes (upper bound: oblique cells)", num(f.sah_cost, "%.2f"));
+        else
+            s.sah_cost = f.sah_cost;
         s.extra.emplace_back("planes", sp.polygons ? "triangles' own planes (autopartition)"
                                                    : "axis-aligned, from the primitives' bounds");
         s.extra.emplace_back("fragments", std::to_string(sp.fragments));
