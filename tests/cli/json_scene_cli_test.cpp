@@ -12,18 +12,10 @@
 #include <vector>
 
 #include "support/cli_run.h"
+#include "support/png_read.h"
 #include "thicket/accel/registry.h"
 #include "thicket/util/npy.h"
 
-#define STB_IMAGE_IMPLEMENTATION
-#define STB_IMAGE_STATIC
-#define STBI_ONLY_PNG
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#pragma GCC diagnostic ignored "-Wsign-compare"
-#include <stb/stb_image.h>
-#pragma GCC diagnostic pop
 
 namespace fs = std::filesystem;
 using namespace thicket;
@@ -115,12 +107,11 @@ TEST_F(JsonSceneCli, NormalViewIsTheSamePictureThroughEveryStructure) {
         const auto r = run_thicket("render " + q("scene.json") + " --accel " + accel +
                                    " --size 160x40 --camera 10.5,0,9,10.5,0,0,40 -o " + q(out));
         ASSERT_EQ(r.code, 0) << accel << ": " << r.output;
-        int w = 0, h = 0, c = 0;
-        unsigned char* px = stbi_load((dir_ / out).string().c_str(), &w, &h, &c, 3);
-        ASSERT_NE(px, nullptr) << accel;
+        int w = 0, h = 0;
+        std::string why;
+        images.push_back(thicket::testing::read_png_rgb((dir_ / out).string(), w, h, why));
+        ASSERT_FALSE(images.back().empty()) << accel << ": " << why;
         ASSERT_EQ(w, 160);
-        images.emplace_back(px, px + size_t(w) * size_t(h) * 3);
-        stbi_image_free(px);
     }
     size_t background = 0;
     for (size_t i = 0; i < images[0].size(); i += 3) background += images[0][i] == 0 && images[0][i + 1] == 0 && images[0][i + 2] == 0;
@@ -142,6 +133,18 @@ TEST_F(JsonSceneCli, BenchLeavesEmbreeOutAndCountsPrimitives) {
     std::ifstream in(dir_ / "b.json");
     const std::string json{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
     EXPECT_NE(json.find("\"shapes\": 39"), std::string::npos) << json.substr(0, 400);
+
+    // The JSON file is never overwritten without --force, and the refusal comes before the work.
+    write("b.json", "mine");
+    const std::string again = "bench " + q("scene.json") + " --accel bvh --sets primary --size 8x8 --reps 1 --json " + q("b.json");
+    auto refused = run_thicket(again);
+    EXPECT_EQ(refused.code, 1) << refused.output;
+    EXPECT_NE(refused.output.find("already exists (use --force"), std::string::npos) << refused.output;
+    EXPECT_EQ(refused.output.find("bvh "), std::string::npos) << "nothing was measured: " << refused.output;
+    std::ifstream mine(dir_ / "b.json");
+    EXPECT_EQ(std::string(std::istreambuf_iterator<char>(mine), std::istreambuf_iterator<char>()), "mine");
+    const auto forced = run_thicket(again + " --force");
+    EXPECT_EQ(forced.code, 0) << forced.output;
 }
 
 TEST_F(JsonSceneCli, BuiltInTeapotPatchesRenders) {

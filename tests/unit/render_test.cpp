@@ -13,21 +13,13 @@
 #include <utility>
 #include <vector>
 
+#include "support/png_read.h"
 #include "thicket/accel/registry.h"
 #include "thicket/core/error.h"
 #include "thicket/render/views.h"
 #include "thicket/util/parallel.h"
 #include "thicket/util/progress.h"
 
-#define STB_IMAGE_IMPLEMENTATION
-#define STB_IMAGE_STATIC
-#define STBI_ONLY_PNG
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#pragma GCC diagnostic ignored "-Wsign-compare"
-#include <stb/stb_image.h>
-#pragma GCC diagnostic pop
 
 namespace fs = std::filesystem;
 using namespace thicket;
@@ -186,15 +178,15 @@ TEST(Image, PngRoundTripThroughStbImage) {
     fs::create_directories(dir);
     const std::string p = (dir / "img.png").string();
     write_png(img, p);
-    int w = 0, h = 0, n = 0;
-    unsigned char* data = stbi_load(p.c_str(), &w, &h, &n, 3);
-    ASSERT_NE(data, nullptr) << stbi_failure_reason();
+    int w = 0, h = 0;
+    std::string why;
+    const std::vector<unsigned char> data = thicket::testing::read_png_rgb(p, w, h, why);
+    ASSERT_FALSE(data.empty()) << why;
     EXPECT_EQ(w, 37);
     EXPECT_EQ(h, 21);
     bool same = true;
     for (int i = 0; i < w * h * 3; ++i) same = same && data[i] == img.data()[i];
     EXPECT_TRUE(same);
-    stbi_image_free(data);
 
     const std::string bad = (dir / "missing" / "img.png").string();
     try {

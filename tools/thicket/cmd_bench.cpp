@@ -33,6 +33,7 @@ struct BenchArgs {
     unsigned threads = 0;
     double pass_budget_ms = 1000.0;
     std::string json;
+    bool force = false;
     bool markdown = false;
     bool no_embree = false;
 };
@@ -91,6 +92,7 @@ int run_bench(const BenchArgs& args) {
     if (args.reps < 1) throw Error("--reps must be at least 1 (5 or more for a trustworthy median)");
     if (args.rounds < 1) throw Error("--rounds must be at least 1");
     if (!(args.pass_budget_ms >= 0.0)) throw Error("--pass-budget must be a non-negative number of milliseconds");
+    refuse_overwrite(args.json, args.force);
     std::vector<TracerFactory> tracers =
         thicket_tracers(args.accels.empty() ? std::vector<std::string>{"bvh"} : args.accels);
 
@@ -222,6 +224,7 @@ Command add_bench_command(CLI::App& app) {
     cmd->add_option("--json", args->json, "also write every row as JSON to FILE")->type_name("FILE");
     cmd->add_flag("--markdown", args->markdown, "print the tables as Markdown");
     cmd->add_flag("--no-embree", args->no_embree, "leave Embree out (no ratios, no agreement)");
+    cmd->add_flag("-f,--force", args->force, "overwrite the --json file if it exists");
     return {cmd, [args] { return run_bench(*args); }};
 }
 

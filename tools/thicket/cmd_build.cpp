@@ -19,9 +19,7 @@ struct BuildArgs {
 
 int run_build(const BuildArgs& args) {
     validate_accel_choice(args.accel);
-    std::error_code ec;
-    if (!args.force && std::filesystem::exists(args.output, ec))
-        throw Error(args.output + " already exists (use --force to overwrite it)");
+    refuse_overwrite(args.output, args.force);
     const Scene scene = load_scene_verbose(args.scene);
     const std::unique_ptr<Accel> accel = make_accel_verbose(args.accel, scene);
     write_atomically(args.output, [&](const std::string& temp) { save_accel(*accel, scene, temp); });

@@ -93,12 +93,6 @@ std::vector<PlotFiles> plot_files(const CompareArgs& args) {
     return files;
 }
 
-void refuse_overwrite(const std::string& path, bool force) {
-    std::error_code ec;
-    if (!path.empty() && !force && fs::exists(path, ec))
-        throw Error(path + " already exists (use --force to overwrite it)");
-}
-
 // Fails now, rather than after the measurements, when the charts could not be written: the
 // directory (made only when the charts are written) must be one, or be creatable in a writable one.
 void check_plot_dir(const std::string& dir) {

@@ -2,7 +2,9 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 
+#include "thicket/core/error.h"
 #include "thicket/util/progress.h"
 
 namespace thicket::cli {
@@ -88,6 +90,12 @@ std::unique_ptr<Accel> make_accel_verbose(const AccelChoice& choice, const Scene
                 st.nodes, st.leaves, st.max_depth, format_bytes(double(st.bytes)).c_str());
     std::fflush(stdout);
     return accel;
+}
+
+void refuse_overwrite(const std::string& path, bool force) {
+    std::error_code ec;
+    if (!path.empty() && !force && std::filesystem::exists(path, ec))
+        throw Error(path + " already exists (use --force to overwrite it)");
 }
 
 }  // namespace thicket::cli

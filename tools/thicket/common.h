@@ -49,6 +49,10 @@ std::unique_ptr<Accel> make_accel_verbose(const AccelChoice& choice, const Scene
 
 /// "12.3 KiB" style byte counts.
 std::string format_bytes(double bytes);
+
+/// Throws Error "PATH already exists (use --force to overwrite it)" unless `force`, the path is
+/// empty (no such output asked for), or nothing is there. Call it before the slow work.
+void refuse_overwrite(const std::string& path, bool force);
 /// Milliseconds since `start` (a steady_clock time point).
 double ms_since(std::chrono::steady_clock::time_point start);
 
