@@ -1,6 +1,11 @@
 #include "support/reference.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -8,8 +13,61 @@
 
 #include "support/test_scenes.h"
 #include "thicket/accel/registry.h"
+#include "thicket/core/hash.h"
+#include "thicket/util/atomic_file.h"
+#include "thicket/util/parallel.h"
 
 namespace thicket::testing {
+
+namespace {
+
+/// Where conformance processes share brute force's answers (THICKET_REFERENCE_CACHE, set by
+/// ctest), or "" to keep them in this process only. Brute force costs rays x primitives; without
+/// sharing, every structure family's process recomputed the same answers on every real scene.
+std::string reference_cache_dir() {
+    const char* dir = std::getenv("THICKET_REFERENCE_CACHE");
+    return dir ? dir : "";
+}
+
+/// The cache file of one reference: named by a hash of everything the answers depend on (the
+/// scene's geometry, the rays' bits, the triangle test), so a changed scene or ray generator
+/// can never read stale answers. (A changed brute force cannot be seen here: the ctest fixture
+/// conformance.references empties the cache at the start of every run.)
+std::string cache_file(const std::string& dir, const Scene& scene, const std::string& isect,
+                       const std::vector<Ray>& rays) {
+    uint64_t h = scene.fingerprint();
+    h = fnv1a(isect.data(), isect.size(), h);
+    h = fnv1a(rays.data(), rays.size() * sizeof(Ray), h);
+    char name[32];
+    std::snprintf(name, sizeof name, "%016llx.ref", static_cast<unsigned long long>(h));
+    return dir + "/" + name;
+}
+
+bool read_cached(const std::string& file, Reference& ref) {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) return false;
+    const size_t n = ref.rays.size();
+    ref.hits.resize(n);
+    ref.occluded.resize(n);
+    in.read(reinterpret_cast<char*>(ref.hits.data()), std::streamsize(n * sizeof(Hit)));
+    in.read(reinterpret_cast<char*>(ref.occluded.data()), std::streamsize(n));
+    // A file of another length is not ours: recompute rather than trust it.
+    if (!in || in.peek() != std::char_traits<char>::eof()) {
+        ref.hits.clear();
+        ref.occluded.clear();
+        return false;
+    }
+    return true;
+}
+
+void write_cached(const std::string& file, const Reference& ref) {
+    std::string bytes(reinterpret_cast<const char*>(ref.hits.data()), ref.hits.size() * sizeof(Hit));
+    bytes.append(reinterpret_cast<const char*>(ref.occluded.data()), ref.occluded.size());
+    // Atomic: a family reading while another writes sees the whole file or none.
+    write_file_atomically(file, bytes);
+}
+
+}  // namespace
 
 const Reference& reference_for(const std::string& key, const Scene& scene, const std::string& isect, size_t count) {
     static std::mutex mutex;
@@ -19,20 +77,24 @@ const Reference& reference_for(const std::string& key, const Scene& scene, const
     if (!slot) {
         slot = std::make_unique<Reference>();
         slot->rays = conformance_rays(scene, count);
-        auto brute = build_accel("brute:isect=" + isect, scene);
-        for (const Ray& r : slot->rays) {
-            slot->hits.push_back(brute->intersect(r));
-            slot->occluded.push_back(brute->occluded(r));
+        slot->probe = std::make_shared<const PrimitiveProbe>(scene, isect);
+        const std::string dir = reference_cache_dir();
+        const std::string file = dir.empty() ? "" : cache_file(dir, scene, isect, slot->rays);
+        if (file.empty() || !read_cached(file, *slot)) {
+            auto brute = build_accel("brute:isect=" + isect, scene);
+            const size_t n = slot->rays.size();
+            slot->hits.resize(n);
+            slot->occluded.resize(n);
+            parallel_for(n, 16, 0, [&](size_t begin, size_t end) {
+                for (size_t i = begin; i < end; ++i) {
+                    slot->hits[i] = brute->intersect(slot->rays[i]);
+                    slot->occluded[i] = brute->occluded(slot->rays[i]);
+                }
+            });
+            if (!file.empty()) write_cached(file, *slot);
         }
     }
     return *slot;
-}
-
-bool same_closest_hit(const Hit& got, const Hit& want) {
-    if (got.found() != want.found()) return false;
-    if (!got.found()) return true;
-    if (got.prim == want.prim) return got.t == want.t && got.u == want.u && got.v == want.v;
-    return std::fabs(got.t - want.t) <= 1e-5f * std::fabs(want.t);
 }
 
 namespace {
@@ -56,6 +118,10 @@ std::string describe(const Hit& h) {
 }  // namespace
 
 std::string compare_with_reference(const Accel& accel, const Reference& ref, const std::string& scene_name) {
+    // `mailbox=off` means what it says: a primitive in several cells is tested once per cell.
+    const AccelSpec spec = parse_accel_spec(accel.spec());
+    const bool repeats_tests = spec.options.count("mailbox") && spec.get("mailbox") == "off";
+    const size_t most_tests = repeats_tests ? SIZE_MAX : ref.probe->size();
     std::ostringstream errors;
     size_t bad = 0;
     for (size_t i = 0; i < ref.rays.size(); ++i) {
@@ -67,12 +133,15 @@ std::string compare_with_reference(const Accel& accel, const Reference& ref, con
         RayCounters occ_counters;
         const bool occ_counted = accel.occluded(r, occ_counters);
         std::string what;
-        if (!same_closest_hit(plain, ref.hits[i]))
+        if (!same_closest_hit(plain, ref.hits[i], r, *ref.probe))
             what = "closest hit " + describe(plain) + ", brute force " + describe(ref.hits[i]);
-        else if (!same_closest_hit(counted, plain) || counted.prim != plain.prim)
+        else if (!identical_hits(counted, plain))
             what = "counting pass differs: " + describe(counted) + " vs " + describe(plain);
         else if (occ != bool(ref.occluded[i]) || occ_counted != occ)
             what = std::string("occluded ") + (occ ? "yes" : "no") + ", brute force " + (ref.occluded[i] ? "yes" : "no");
+        else if (counters.prims > most_tests || occ_counters.prims > most_tests)
+            what = "tested " + std::to_string(std::max(counters.prims, occ_counters.prims)) + " primitives of " +
+                   std::to_string(ref.probe->size()) + ": some more than once";
         else if (counters.prims > 0 && counters.nodes == 0 && accel.spec().rfind("brute", 0) != 0)
             what = "counters report primitive tests but no node visits";
         if (!what.empty() && bad++ < 5)

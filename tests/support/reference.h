@@ -1,8 +1,10 @@
 #pragma once
 // Brute-force references, computed once per (scene, triangle test), and the agreement rule.
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "support/probe.h"
 #include "thicket/accel/accel.h"
 #include "thicket/scene/scene.h"
 
@@ -12,15 +14,12 @@ struct Reference {
     std::vector<Ray> rays;
     std::vector<Hit> hits;
     std::vector<uint8_t> occluded;
+    std::shared_ptr<const PrimitiveProbe> probe;  ///< the scene's primitives, one at a time
 };
 
 /// Brute force's answers on conformance_rays(scene, count) with the given `isect` option;
 /// cached per process under `key`.
 const Reference& reference_for(const std::string& key, const Scene& scene, const std::string& isect, size_t count);
-
-/// The agreement rule: both miss, or both hit with the same primitive (and identical t, u, v),
-/// or with t equal within 1e-5 relative (several primitives tie).
-bool same_closest_hit(const Hit& got, const Hit& want);
 
 /// Runs `accel` over the reference rays (closest, closest with counters, any-hit) and returns
 /// "" when it agrees everywhere, else a description of the first few disagreements.

@@ -343,10 +343,12 @@ std::vector<Ray> conformance_rays(const Scene& scene, size_t count, uint32_t see
         rays.push_back({o, 0.0f, d, kInfinity});
     }
     // Aimed exactly at vertices and edge midpoints: shared edges and vertices of closed meshes.
+    // In turn each of the three vertices, then each of the three edges (v0v1, v1v2, v2v0).
     for (size_t i = 0; tris && i < share; ++i) {
         const auto t = uint32_t(rng() % tris);
-        const Vec3 target = (i % 3 == 0) ? scene.mesh.vertex(t, int(i % 3))
-                                         : (scene.mesh.vertex(t, 0) + scene.mesh.vertex(t, 1 + int(i % 2))) * 0.5f;
+        const int k = int(i % 6), corner = k % 3;
+        const Vec3 target = k < 3 ? scene.mesh.vertex(t, corner)
+                                  : (scene.mesh.vertex(t, corner) + scene.mesh.vertex(t, (corner + 1) % 3)) * 0.5f;
         const Vec3 o = random_point(rng, lo, hi);
         rays.push_back({o, 0.0f, target - o, kInfinity});
     }

@@ -3,6 +3,7 @@
 #include <random>
 #include <sstream>
 
+#include "support/probe.h"
 #include "support/reference.h"
 #include "support/test_scenes.h"
 #include "thicket/accel/registry.h"
@@ -154,9 +155,10 @@ TEST(BihBuild, InseparableCentresAreSplitByCount) {
     EXPECT_LE(f.max_leaf_size, 2u);
     EXPECT_LE(f.max_depth, 12u);
     BruteForce<Triangles<>> brute{Triangles<>(m)};
+    const testing::PrimitiveProbe probe(scene, "moller");
     for (float x : {-40.0f, -3.0f, 0.0f, 0.5f, 20.0f}) {
         const Ray ray{{x, 0.25f, 5.0f}, 0.0f, {0.0f, -0.0f, -1.0f}, kInfinity};
-        EXPECT_TRUE(testing::same_closest_hit(bih.intersect(ray), brute.intersect(ray))) << x;
+        EXPECT_TRUE(testing::same_closest_hit(bih.intersect(ray), brute.intersect(ray), ray, probe)) << x;
     }
 }
 
@@ -199,6 +201,7 @@ TEST(BihTraversal, AgreesWithBruteForceOnAxisParallelRaysThroughPlanes) {
     ASSERT_EQ(scene.name, "closed-cube");
     const auto bih = make_bih(scene, 1);
     BruteForce<Triangles<>> brute{Triangles<>(scene.mesh)};
+    const testing::PrimitiveProbe probe(scene, "moller");
     int rays = 0;
     for (int axis = 0; axis < 3; ++axis)
         for (float s : {1.0f, -1.0f})
@@ -211,7 +214,7 @@ TEST(BihTraversal, AgreesWithBruteForceOnAxisParallelRaysThroughPlanes) {
                         o[(axis + 2) % 3] = float(j) / 6.0f;
                         d[axis] = s;
                         const Ray ray{o, 0.0f, d, kInfinity};
-                        ASSERT_TRUE(testing::same_closest_hit(bih.intersect(ray), brute.intersect(ray)))
+                        ASSERT_TRUE(testing::same_closest_hit(bih.intersect(ray), brute.intersect(ray), ray, probe))
                             << "axis " << axis << " i " << i << " j " << j;
                         ASSERT_EQ(bih.occluded(ray), brute.occluded(ray));
                         ++rays;

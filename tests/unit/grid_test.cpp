@@ -8,6 +8,7 @@
 #include <random>
 #include <set>
 
+#include "support/probe.h"
 #include "support/reference.h"
 #include "support/test_scenes.h"
 #include "thicket/accel/registry.h"
@@ -290,6 +291,7 @@ private:
 template <class Accel>
 size_t most_tests_of_one_primitive(const Accel& accel, const Scene& scene, std::vector<uint32_t>& log) {
     const BruteForce<Triangles<>> brute{Triangles<>(scene.mesh)};
+    const testing::PrimitiveProbe probe(scene, "moller");
     size_t most = 0;
     for (const Ray& ray : testing::conformance_rays(scene, 600, 9)) {
         for (int any = 0; any < 2; ++any) {
@@ -298,7 +300,7 @@ size_t most_tests_of_one_primitive(const Accel& accel, const Scene& scene, std::
             if (any) {
                 EXPECT_EQ(accel.any(ray, c), brute.occluded(ray));
             } else {
-                EXPECT_TRUE(testing::same_closest_hit(accel.closest(ray, c), brute.intersect(ray)));
+                EXPECT_TRUE(testing::same_closest_hit(accel.closest(ray, c), brute.intersect(ray), ray, probe));
             }
             EXPECT_EQ(c.prims, log.size());
             std::sort(log.begin(), log.end());
@@ -369,6 +371,7 @@ TEST(GridTraversal, InvalidRaysAreMissesNotHangs) {
     const float nan = std::numeric_limits<float>::quiet_NaN();
     const Scene& scene = nasty("soup");
     const BruteForce<Triangles<>> brute{Triangles<>(scene.mesh)};
+    const testing::PrimitiveProbe probe(scene, "moller");
     const std::vector<Ray> rays = {
         {{nan, 0, 0}, 0, {1, 0, 0}, kInfinity},   {{-3, 0, 0}, 0, {nan, 0, 0}, kInfinity},
         {{-3, 0, 0}, 0, {0, 0, 0}, kInfinity},     {{0, 0, 0}, 0, {0, 0, 0}, kInfinity},
@@ -380,7 +383,7 @@ TEST(GridTraversal, InvalidRaysAreMissesNotHangs) {
     for (const char* spec : {"grid", "grid2", "grid:mailbox=off"}) {
         auto accel = build_accel(spec, scene);
         for (const Ray& r : rays) {
-            EXPECT_TRUE(testing::same_closest_hit(accel->intersect(r), brute.intersect(r))) << spec;
+            EXPECT_TRUE(testing::same_closest_hit(accel->intersect(r), brute.intersect(r), r, probe)) << spec;
             EXPECT_EQ(accel->occluded(r), brute.occluded(r)) << spec;
         }
     }
@@ -401,6 +404,7 @@ TEST(GridTraversal, RaysAlongCellPlanesAndFromTheBoundary) {
     scene.name = "planes";
     scene.mesh = std::move(m);
     const BruteForce<Triangles<>> brute{Triangles<>(scene.mesh)};
+    const testing::PrimitiveProbe probe(scene, "moller");
     std::vector<Ray> rays;
     for (int i = 0; i <= 8; ++i)
         for (int j = 0; j <= 8; ++j)
@@ -419,7 +423,7 @@ TEST(GridTraversal, RaysAlongCellPlanesAndFromTheBoundary) {
     for (const char* spec : {"grid:res=8", "grid:res=16,assign=bounds", "grid", "grid2", "grid2:top=64,leaf=64"}) {
         auto accel = build_accel(spec, scene);
         for (const Ray& r : rays) {
-            ASSERT_TRUE(testing::same_closest_hit(accel->intersect(r), brute.intersect(r)))
+            ASSERT_TRUE(testing::same_closest_hit(accel->intersect(r), brute.intersect(r), r, probe))
                 << spec << " ray from (" << r.org.x << "," << r.org.y << "," << r.org.z << ") dir (" << r.dir.x << ","
                 << r.dir.y << "," << r.dir.z << ")";
             ASSERT_EQ(accel->occluded(r), brute.occluded(r)) << spec;

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "kdtree_test_scenes.h"
+#include "support/probe.h"
 #include "support/reference.h"
 #include "support/test_scenes.h"
 #include "thicket/accel/registry.h"
@@ -33,6 +34,7 @@ const char* const kSpecs[] = {"kdtree:traversal=stack", "kdtree:traversal=restar
 /// direction make no difference.
 void expect_like_brute_force(const Scene& scene, const std::vector<Ray>& rays) {
     auto brute = build_accel("brute", scene);
+    const testing::PrimitiveProbe probe(scene, "moller");
     std::vector<Hit> hits;
     std::vector<uint8_t> occluded;
     for (const Ray& r : rays) {
@@ -47,7 +49,7 @@ void expect_like_brute_force(const Scene& scene, const std::vector<Ray>& rays) {
             const Ray& r = rays[i];
             RayCounters c;
             const Hit want = hits[i], got = accel->intersect(r, c);
-            const bool ok = testing::same_closest_hit(got, want) && accel->occluded(r) == bool(occluded[i]);
+            const bool ok = testing::same_closest_hit(got, want, r, probe) && accel->occluded(r) == bool(occluded[i]);
             if (!ok && bad++ < 3)
                 ADD_FAILURE() << "ray org (" << r.org.x << ", " << r.org.y << ", " << r.org.z << ") dir (" << r.dir.x
                               << ", " << r.dir.y << ", " << r.dir.z << "): got prim " << got.prim << " t " << got.t

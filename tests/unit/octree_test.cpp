@@ -5,6 +5,7 @@
 #include <random>
 #include <sstream>
 
+#include "support/probe.h"
 #include "support/reference.h"
 #include "support/test_scenes.h"
 #include "thicket/accel/registry.h"
@@ -163,6 +164,7 @@ TEST(OctreeBuild, FlatSceneGetsCubicCellsAndBoundedReferences) {
     EXPECT_GT(d.root.extent().y, 0.0f);
     EXPECT_LE(d.refs.size(), kOctreeReferenceBudget * scene.primitive_count() + 4096);
     BruteForce<Triangles<>> brute{Triangles<>(m)};
+    const testing::PrimitiveProbe probe(scene, "moller");
     std::mt19937 rng(4);
     std::uniform_real_distribution<float> u(0.0f, 64.0f);
     for (int i = 0; i < 500; ++i) {
@@ -170,7 +172,7 @@ TEST(OctreeBuild, FlatSceneGetsCubicCellsAndBoundedReferences) {
         const Vec3 o(std::floor(u(rng)) + (i % 3 == 0 ? 0.0f : 0.5f), 10.0f, std::floor(u(rng)));
         const Vec3 dir = i % 2 ? Vec3(-0.0f, -1.0f, 0.0f) : Vec3(0.3f, -1.0f, -0.2f);
         const Ray ray{o, 0.0f, dir, kInfinity};
-        EXPECT_TRUE(testing::same_closest_hit(tree.intersect(ray), brute.intersect(ray))) << "ray " << i;
+        EXPECT_TRUE(testing::same_closest_hit(tree.intersect(ray), brute.intersect(ray), ray, probe)) << "ray " << i;
     }
 }
 
@@ -223,6 +225,7 @@ TEST(OctreeTraversal, RaysInMidPlanesAndParallelToThem) {
     Scene scene;
     scene.mesh = m;
     BruteForce<Triangles<>> brute{Triangles<>(m)};
+    const testing::PrimitiveProbe probe(scene, "moller");
     for (auto traversal : {OctreeTraversal::Parametric, OctreeTraversal::Restart}) {
         const auto tree = make_octree(scene, traversal, 1, 5);
         ASSERT_EQ(tree.data().root.max.x, 4.0f);
@@ -234,7 +237,7 @@ TEST(OctreeTraversal, RaysInMidPlanesAndParallelToThem) {
                         const Vec3 o(s > 0 ? -1.0f : 5.0f, y, z);
                         for (const Vec3 dir : {Vec3(s, zero, zero), Vec3(s, zero, 0.25f), Vec3(s, 0.5f, zero)}) {
                             const Ray ray{o, 0.0f, dir, kInfinity};
-                            ASSERT_TRUE(testing::same_closest_hit(tree.intersect(ray), brute.intersect(ray)))
+                            ASSERT_TRUE(testing::same_closest_hit(tree.intersect(ray), brute.intersect(ray), ray, probe))
                                 << "y " << y << " z " << z << " dir " << dir.x << "," << dir.y << "," << dir.z;
                             ASSERT_EQ(tree.occluded(ray), brute.occluded(ray));
                             ++rays;
