@@ -9,8 +9,11 @@ if [ "$via" = package ]; then
   cmake --install "$build" --prefix "$work/prefix" >/dev/null
   cmake -S "$source/tests/package/consumer" -B "$work/consumer" -DCMAKE_PREFIX_PATH="$work/prefix" >/dev/null
 else
+  # The library is compiled again here, with the main build's flags and compiler launcher: where
+  # that is ccache (scripts/test), every object is a cache hit. Only what the consumer links is built.
+  launcher=$(sed -n 's/^CMAKE_CXX_COMPILER_LAUNCHER:[A-Z]*=//p' "$build/CMakeCache.txt")
   cmake -S "$source/tests/package/consumer" -B "$work/consumer" -DTHICKET_VIA=subdirectory \
-        -DTHICKET_SOURCE="$source" -DCMAKE_BUILD_TYPE=Release >/dev/null
+        -DTHICKET_SOURCE="$source" -DCMAKE_BUILD_TYPE=Release ${launcher:+"-DCMAKE_CXX_COMPILER_LAUNCHER=$launcher"} >/dev/null
 fi
-cmake --build "$work/consumer" -j2 >/dev/null
+cmake --build "$work/consumer" -j2 --target consumer >/dev/null
 "$work/consumer/consumer"
