@@ -2,6 +2,9 @@
 // inclusive [tmin, tmax] interval, the same hits on a real scene, and it counts its memory.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <string>
+
 #include <cmath>
 #include <string>
 #include <vector>
@@ -108,6 +111,45 @@ TEST_P(EmbreeTracerTest, AnswersLikeBruteForceOnTheCornellBox) {
             const Agreement agreement = compare_hits(a, b);
             EXPECT_GE(agreement.percent(), 99.5);
             EXPECT_LT(agreement.max_dt_rel, 1e-4);
+        }
+    }
+}
+
+// Thicket's default structures answer every ray of the bench's four sets on a real scene like
+// Embree: the same hit or miss, the same primitive or one at the same distance (Embree's triangle
+// test rounds differently, so its t may differ in the last bits), the same occlusion.
+TEST_P(EmbreeTracerTest, DefaultStructuresAgreeOnEveryRayOfSponza) {
+    const std::string path = std::string(THICKET_SHARED_SCENES) + "/sponza-dabrovic.ply";
+    if (!std::ifstream(path)) GTEST_SKIP() << path << " not found: the real-scene agreement test needs ../shared";
+    const Scene scene = load_scene(path);
+    auto bvh = build_accel("bvh", scene);
+    RaySetOptions options;
+    options.width = 160;
+    options.height = 120;
+    const std::vector<std::string> names{"primary", "shadow", "diffuse", "random"};
+    const std::vector<RaySet> sets = generate_ray_sets(scene, *bvh, names, options, 1);
+    auto embree = make_embree_tracer(GetParam());
+    embree->build(scene, 0);
+    for (const char* spec : {"bvh", "kdtree"}) {
+        auto thicket = make_accel_tracer(spec);
+        thicket->build(scene, 0);
+        for (const RaySet& set : sets) {
+            SCOPED_TRACE(std::string(spec) + ", " + set.name);
+            ASSERT_GE(set.rays.size(), 10000u);
+            if (set.any_hit) {
+                std::vector<uint8_t> a(set.rays.size()), b(set.rays.size());
+                embree->occluded(set.rays, a, 0);
+                thicket->occluded(set.rays, b, 0);
+                const Agreement agreement = compare_occlusion(a, b);
+                EXPECT_EQ(agreement.agreeing, agreement.rays) << "first mismatch at ray " << agreement.first_mismatch;
+            } else {
+                std::vector<Hit> a(set.rays.size()), b(set.rays.size());
+                embree->trace(set.rays, a, 0);
+                thicket->trace(set.rays, b, 0);
+                const Agreement agreement = compare_hits(a, b);
+                EXPECT_EQ(agreement.agreeing, agreement.rays) << "first mismatch at ray " << agreement.first_mismatch;
+                EXPECT_LT(agreement.max_dt_rel, 1e-3);
+            }
         }
     }
 }
