@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <string>
 
-#include "thicket/accel/accel.h"
 #include "thicket/bih/build.h"
 #include "thicket/core/error.h"
+#include "thicket/core/sah.h"
 
 namespace thicket {
 

@@ -1,4 +1,4 @@
-#include "thicket/accel/dispatch.h"
+#include "accel/dispatch.h"
 #include "thicket/bih/bih.h"
 
 namespace thicket {

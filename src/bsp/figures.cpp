@@ -4,8 +4,8 @@
 #include <vector>
 
 #include "fragments.h"
-#include "thicket/accel/accel.h"
 #include "thicket/bsp/build.h"
+#include "thicket/core/sah.h"
 
 namespace thicket {
 

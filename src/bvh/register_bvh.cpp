@@ -1,4 +1,4 @@
-#include "thicket/accel/dispatch.h"
+#include "accel/dispatch.h"
 #include "thicket/bvh/bvh.h"
 #include "thicket/core/error.h"
 

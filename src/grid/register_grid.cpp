@@ -1,5 +1,5 @@
 // Registration of the uniform grid and the two-level grid: spec options and tested variants.
-#include "thicket/accel/dispatch.h"
+#include "accel/dispatch.h"
 #include "thicket/grid/grid.h"
 #include "thicket/grid/grid2.h"
 

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "builder.h"
-#include "thicket/accel/accel.h"
+#include "thicket/core/sah.h"
 
 namespace thicket {
 

@@ -1,4 +1,4 @@
-#include "thicket/accel/dispatch.h"
+#include "accel/dispatch.h"
 #include "thicket/kdtree/kdtree.h"
 
 namespace thicket {

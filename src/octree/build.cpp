@@ -6,8 +6,9 @@
 #include <cmath>
 #include <string>
 
-#include "thicket/accel/accel.h"
 #include "thicket/core/error.h"
+#include "thicket/core/ray.h"
+#include "thicket/core/sah.h"
 #include "thicket/octree/build.h"
 
 namespace thicket {

@@ -12,13 +12,9 @@
 
 #include "thicket/core/aabb.h"
 #include "thicket/core/ray.h"
+#include "thicket/core/sah.h"
 
 namespace thicket {
-
-/// SAH cost constants used for every reported SAH cost: cost(leaf) = C_isect * count,
-/// cost(interior) = C_trav + sum over children of area(child)/area(node) * cost(child).
-inline constexpr float kSahTraversalCost = 1.0f;
-inline constexpr float kSahIntersectionCost = 1.0f;
 
 struct AccelStats {
     std::string spec;          ///< canonical spec string of the structure

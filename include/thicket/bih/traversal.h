@@ -7,7 +7,7 @@
 /// closer than its entry has been found meanwhile. Children are ordered by the ray's sign on the
 /// split axis, like the planes of the slab test, so +0 and -0 components are consistent.
 #include "thicket/bih/node.h"
-#include "thicket/bih/slab_interval.h"
+#include "thicket/core/slab_interval.h"
 #include "thicket/prims/primitive_set.h"
 
 namespace thicket {

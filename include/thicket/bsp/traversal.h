@@ -22,8 +22,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "thicket/accel/mailbox.h"
 #include "thicket/bsp/node.h"
+#include "thicket/core/mailbox.h"
 #include "thicket/core/ray_box.h"
 #include "thicket/prims/primitive_set.h"
 

@@ -22,8 +22,8 @@
 /// Primitives referenced by several leaves are tested once per query (Mailbox).
 #include <cmath>
 
+#include "thicket/core/mailbox.h"
 #include "thicket/core/ray_box.h"
-#include "thicket/accel/mailbox.h"
 #include "thicket/kdtree/node.h"
 #include "thicket/prims/primitive_set.h"
 

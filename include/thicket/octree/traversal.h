@@ -20,8 +20,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "thicket/bih/slab_interval.h"
-#include "thicket/accel/mailbox.h"
+#include "thicket/core/mailbox.h"
+#include "thicket/core/slab_interval.h"
 #include "thicket/octree/node.h"
 #include "thicket/prims/primitive_set.h"
 

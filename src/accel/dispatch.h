@@ -2,7 +2,8 @@
 /// Chooses the primitive set a structure is instantiated with, from the scene and the spec's
 /// `isect` option. Structures are class templates over a PrimitiveSet; this is where a scene's
 /// content picks the instantiation: triangle-only scenes get the Triangles fast path, scenes with
-/// shapes the mixed set (triangles and shapes behind one id space).
+/// shapes the mixed set (triangles and shapes behind one id space). Private to the library
+/// (src/ is its private include directory): only the register_*.cpp files use it.
 #include <memory>
 #include <utility>
 
@@ -17,8 +18,9 @@ template <class Make>
 std::unique_ptr<Accel> with_primitives(const Scene& scene, const AccelSpec& spec, Make&& make) {
     const bool watertight = spec.get("isect") == "watertight";
     if (scene.has_shapes()) {
-        if (watertight) return make(MixedPrimitives<TriangleTest::Watertight>(scene));
-        return make(MixedPrimitives<TriangleTest::Moller>(scene));
+        if (watertight)
+            return make(MixedPrimitives<TriangleTest::Watertight>(scene.mesh, scene.shapes, scene.runs, scene.name));
+        return make(MixedPrimitives<TriangleTest::Moller>(scene.mesh, scene.shapes, scene.runs, scene.name));
     }
     if (watertight) return make(Triangles<TriangleTest::Watertight>(scene.mesh));
     return make(Triangles<TriangleTest::Moller>(scene.mesh));
