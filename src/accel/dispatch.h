@@ -13,10 +13,16 @@
 
 namespace thicket {
 
+/// The `isect` option every structure takes (registry.cpp appends it to each entry).
+inline constexpr Choice<TriangleTest> kTriangleTests[] = {
+    {"moller", TriangleTest::Moller},
+    {"watertight", TriangleTest::Watertight},
+};
+
 /// Calls make(prims) with the primitive set matching `spec` for `scene`, returns its result.
 template <class Make>
 std::unique_ptr<Accel> with_primitives(const Scene& scene, const AccelSpec& spec, Make&& make) {
-    const bool watertight = spec.get("isect") == "watertight";
+    const bool watertight = spec.choice("isect", kTriangleTests) == TriangleTest::Watertight;
     if (scene.has_shapes()) {
         if (watertight)
             return make(MixedPrimitives<TriangleTest::Watertight>(scene.mesh, scene.shapes, scene.runs, scene.name));
