@@ -13,6 +13,7 @@
 #include "thicket/core/aabb.h"
 #include "thicket/core/ray.h"
 #include "thicket/core/sah.h"
+#include "thicket/core/tree_figures.h"
 
 namespace thicket {
 
@@ -61,6 +62,18 @@ protected:
         AccelStats s;
         s.spec = spec_;
         s.build_ms = build_ms_;
+        return s;
+    }
+    /// base_stats() plus a tree's figures (nodes, leaves, depth, SAH cost) and the sizes.
+    AccelStats tree_stats(const TreeFigures& f, size_t primitives, size_t bytes, size_t primitive_bytes) const {
+        AccelStats s = base_stats();
+        s.primitives = primitives;
+        s.nodes = f.nodes;
+        s.leaves = f.leaves;
+        s.max_depth = f.max_depth;
+        s.bytes = bytes;
+        s.primitive_bytes = primitive_bytes;
+        s.sah_cost = f.sah_cost;
         return s;
     }
 
