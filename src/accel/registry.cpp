@@ -5,6 +5,7 @@
 #include <chrono>
 #include <sstream>
 
+#include "accel/dispatch.h"
 #include "thicket/core/error.h"
 
 namespace thicket {
@@ -22,12 +23,8 @@ namespace {
 
 /// Options every structure takes, appended to each entry.
 OptionInfo triangle_test_option() {
-    OptionInfo o;
-    o.key = "isect";
-    o.help = "ray/triangle test: Moller-Trumbore or the watertight test (Woop et al. 2013)";
-    o.default_value = "moller";
-    o.choices = {"moller", "watertight"};
-    return o;
+    return choice_option("isect", "ray/triangle test: Moller-Trumbore or the watertight test (Woop et al. 2013)",
+                         TriangleTest::Moller, kTriangleTests);
 }
 
 std::vector<AccelInfo> make_registry() {
@@ -89,6 +86,10 @@ long AccelSpec::get_int(const std::string& key) const {
     long v = 0;
     if (!parse_long(get(key), v)) throw Error(name + ": option " + key + "=" + get(key) + " is not an integer");
     return v;
+}
+
+void AccelSpec::refuse_choice(const std::string& key, const std::vector<std::string>& allowed) const {
+    throw Error(name + ": " + key + "=" + get(key) + " is not allowed; choose one of " + join(allowed));
 }
 
 std::string AccelSpec::str() const {
@@ -163,9 +164,14 @@ std::vector<std::string> all_accel_variants() {
 }
 
 std::unique_ptr<Accel> build_accel(std::string_view spec_text, const Scene& scene) {
-    const AccelSpec spec = parse_accel_spec(spec_text);
+    return build_accel(parse_accel_spec(spec_text), scene);
+}
+
+std::unique_ptr<Accel> build_accel(const AccelSpec& spec, const Scene& scene) {
+    const AccelInfo* info = find_accel(spec.name);
+    if (!info) throw Error("unknown acceleration structure '" + spec.name + "' (see `thicket accels`)");
     const auto start = std::chrono::steady_clock::now();
-    std::unique_ptr<Accel> accel = find_accel(spec.name)->build(scene, spec);
+    std::unique_ptr<Accel> accel = info->build(scene, spec);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     accel->set_origin(spec.str(), ms);
     return accel;

@@ -16,9 +16,10 @@ constexpr size_t kGrain = kTraceGrain;
 
 class AccelTracer final : public Tracer {
 public:
-    explicit AccelTracer(std::string spec) : spec_(std::move(spec)) {}
+    /// `spec`: `name` parsed (once: every build of this tracer uses it).
+    AccelTracer(std::string name, AccelSpec spec) : name_(std::move(name)), spec_(std::move(spec)) {}
 
-    std::string name() const override { return spec_; }
+    std::string name() const override { return name_; }
     bool parallel_build() const override { return false; }
 
     double build(const Scene& scene, unsigned) override {
@@ -73,24 +74,24 @@ public:
 
 private:
     const Accel& get() const {
-        if (!accel_) throw Error("tracer '" + spec_ + "' used before build()");
+        if (!accel_) throw Error("tracer '" + name_ + "' used before build()");
         return *accel_;
     }
 
-    std::string spec_;
+    std::string name_;
+    AccelSpec spec_;
     std::unique_ptr<Accel> accel_;
 };
 
 }  // namespace
 
 std::unique_ptr<Tracer> make_accel_tracer(const std::string& spec) {
-    parse_accel_spec(spec);
-    return std::make_unique<AccelTracer>(spec);
+    return std::make_unique<AccelTracer>(spec, parse_accel_spec(spec));
 }
 
 TracerFactory accel_tracer_factory(const std::string& spec) {
-    parse_accel_spec(spec);
-    return {spec, [spec] { return make_accel_tracer(spec); }};
+    const AccelSpec parsed = parse_accel_spec(spec);  // a typo fails here, before any tracer is made
+    return {spec, [spec, parsed] { return std::unique_ptr<Tracer>(std::make_unique<AccelTracer>(spec, parsed)); }};
 }
 
 }  // namespace thicket

@@ -3,49 +3,29 @@
 #include <algorithm>
 #include <string>
 
-#include "thicket/accel/accel.h"
 #include "thicket/bih/build.h"
 #include "thicket/core/error.h"
+#include "thicket/core/sah.h"
 
 namespace thicket {
 
 BihFigures bih_figures(const BihData& bih) {
-    BihFigures f;
-    if (bih.nodes.empty()) return f;
-    const float root_area = bih.bounds.half_area();
-    struct Item {
-        uint32_t node;
-        size_t depth;
-        Aabb box;
-    };
-    std::vector<Item> stack{{0, 0, bih.bounds}};
-    while (!stack.empty()) {
-        const Item item = stack.back();
-        stack.pop_back();
-        const BihNode& node = bih.nodes[item.node];
-        // A degenerate (flat) scene weighs every node equally, as the BVH's figures do.
-        const double rel = root_area > 0.0f ? double(item.box.half_area()) / root_area : 1.0;
-        ++f.nodes;
-        f.max_depth = std::max(f.max_depth, item.depth);
-        if (node.is_leaf()) {
-            ++f.leaves;
-            f.empty_leaves += node.count() == 0;
-            f.max_leaf_size = std::max<size_t>(f.max_leaf_size, node.count());
-            f.sah_cost += rel * kSahIntersectionCost * node.count();
-            continue;
-        }
-        f.sah_cost += rel * kSahTraversalCost;
-        const int a = node.axis();
-        Item left{node.index(), item.depth + 1, item.box}, right{node.index() + 1, item.depth + 1, item.box};
-        left.box.max[a] = std::min(left.box.max[a], node.left_max());
-        right.box.min[a] = std::max(right.box.min[a], node.right_min());
-        // An empty child's plane lies beyond the box: its box is empty (area 0).
-        if (left.box.empty()) left.box = Aabb{};
-        if (right.box.empty()) right.box = Aabb{};
-        stack.push_back(right);
-        stack.push_back(left);
-    }
-    return f;
+    return walk_tree(!bih.nodes.empty(), bih.bounds,
+                     [&](const TreeWalkItem& item, double, auto push) -> std::optional<size_t> {
+                         const BihNode& node = bih.nodes[item.node];
+                         if (node.is_leaf()) return node.count();
+                         const int a = node.axis();
+                         TreeWalkItem left{node.index(), item.depth + 1, item.box};
+                         TreeWalkItem right{node.index() + 1, item.depth + 1, item.box};
+                         left.box.max[a] = std::min(left.box.max[a], node.left_max());
+                         right.box.min[a] = std::max(right.box.min[a], node.right_min());
+                         // An empty child's plane lies beyond the box: its box is empty (area 0).
+                         if (left.box.empty()) left.box = Aabb{};
+                         if (right.box.empty()) right.box = Aabb{};
+                         push(right);
+                         push(left);
+                         return std::nullopt;
+                     });
 }
 
 void validate_bih(const BihData& bih, size_t primitive_count) {

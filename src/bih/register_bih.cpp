@@ -1,14 +1,16 @@
-#include "thicket/accel/dispatch.h"
+#include "accel/dispatch.h"
 #include "thicket/bih/bih.h"
 
 namespace thicket {
 
 namespace {
 
+constexpr Choice<BihEmptySide> kEmptySides[] = {{"cut", BihEmptySide::Cut}, {"refine", BihEmptySide::Refine}};
+
 BihBuildOptions build_options(const AccelSpec& spec) {
     BihBuildOptions o;
     o.max_leaf = int(spec.get_int("max-leaf"));
-    o.empty_side = spec.get("empty") == "refine" ? BihEmptySide::Refine : BihEmptySide::Cut;
+    o.empty_side = spec.choice("empty", kEmptySides);
     return o;
 }
 
@@ -22,10 +24,11 @@ void register_bih(std::vector<AccelInfo>& registry) {
                    "global-heuristic build";
     info.options = {
         {"max-leaf", "a range of at most this many primitives becomes a leaf", "4", {}, 1, 255},
-        {"empty",
-         "when every object falls on one side of the candidate plane: refine (halve the candidate box, make no "
-         "node) or cut (also make a node with an empty child when that cuts off a quarter of the node's extent)",
-         "cut", {"cut", "refine"}, 0, 0},
+        choice_option("empty",
+                      "when every object falls on one side of the candidate plane: refine (halve the candidate box, "
+                      "make no node) or cut (also make a node with an empty child when that cuts off a quarter of "
+                      "the node's extent)",
+                      BihEmptySide::Cut, kEmptySides),
     };
     info.variants = {"bih", "bih:empty=refine", "bih:max-leaf=1", "bih:isect=watertight"};
     info.build = [](const Scene& scene, const AccelSpec& spec) {

@@ -1,4 +1,4 @@
-#include "thicket/accel/dispatch.h"
+#include "accel/dispatch.h"
 #include "thicket/brute/brute_force.h"
 
 namespace thicket {

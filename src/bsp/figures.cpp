@@ -4,8 +4,8 @@
 #include <vector>
 
 #include "fragments.h"
-#include "thicket/accel/accel.h"
 #include "thicket/bsp/build.h"
+#include "thicket/core/sah.h"
 
 namespace thicket {
 
@@ -52,36 +52,16 @@ Aabb bsp_cut_box(const Aabb& box, const BspPlane& plane, bool front) {
 }
 
 BspFigures bsp_figures(const BspData& bsp) {
-    BspFigures f;
-    if (bsp.nodes.empty()) return f;
-    const double root_area = bsp.bounds.half_area();
-    struct Item {
-        uint32_t node;
-        size_t depth;
-        Aabb cell;
-    };
-    std::vector<Item> stack{{0, 0, bsp.bounds}};
-    while (!stack.empty()) {
-        const Item it = stack.back();
-        stack.pop_back();
-        const BspNode& node = bsp.nodes[it.node];
-        const double rel = root_area > 0.0 ? double(it.cell.half_area()) / root_area : 1.0;
-        ++f.nodes;
-        f.max_depth = std::max(f.max_depth, it.depth);
-        if (node.is_leaf()) {
-            ++f.leaves;
-            f.max_leaf_size = std::max<size_t>(f.max_leaf_size, node.leaf_size());
-            f.empty_leaves += node.leaf_size() == 0 ? 1 : 0;
-            f.sah_cost += rel * kSahIntersectionCost * node.leaf_size();
-        } else {
-            f.sah_cost += rel * kSahTraversalCost;
-            Aabb back, front;
-            bsp_cut_box(it.cell, node.plane, back, front);
-            stack.push_back({node.index, it.depth + 1, back});
-            stack.push_back({node.index + 1, it.depth + 1, front});
-        }
-    }
-    return f;
+    return walk_tree(!bsp.nodes.empty(), bsp.bounds,
+                     [&](const TreeWalkItem& item, double, auto push) -> std::optional<size_t> {
+                         const BspNode& node = bsp.nodes[item.node];
+                         if (node.is_leaf()) return node.leaf_size();
+                         Aabb back, front;
+                         bsp_cut_box(item.box, node.plane, back, front);
+                         push({node.index, item.depth + 1, back});
+                         push({node.index + 1, item.depth + 1, front});
+                         return std::nullopt;
+                     });
 }
 
 }  // namespace thicket

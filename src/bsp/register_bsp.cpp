@@ -1,18 +1,21 @@
-#include "thicket/accel/dispatch.h"
+#include "accel/dispatch.h"
 #include "thicket/bsp/bsp.h"
 
 namespace thicket {
 
 namespace {
 
+constexpr Choice<BspCost> kCosts[] = {{"sah", BspCost::Sah}, {"balance", BspCost::Balance}};
+constexpr Choice<bool> kAxisFallback[] = {{"axis", true}, {"none", false}};
+
 BspBuildOptions build_options(const AccelSpec& spec) {
     BspBuildOptions o;
-    o.cost = spec.get("cost") == "balance" ? BspCost::Balance : BspCost::Sah;
+    o.cost = spec.choice("cost", kCosts);
     o.candidates = int(spec.get_int("candidates"));
     o.max_leaf = int(spec.get_int("max-leaf"));
     o.max_depth = int(spec.get_int("max-depth"));
     o.fragment_budget = int(spec.get_int("fragment-budget"));
-    o.axis_fallback = spec.get("fallback") == "axis";
+    o.axis_fallback = spec.choice("fallback", kAxisFallback);
     return o;
 }
 
@@ -25,19 +28,20 @@ void register_bsp(std::vector<AccelInfo>& registry) {
     info.summary = "BSP tree by autopartition: planes of the scene's own triangles, straddlers cut into fragments";
     const BspBuildOptions d;
     info.options = {
-        {"cost",
-         "plane choice among the candidates: sah (fragments x area of each side's cell box cut to its "
-         "fragments' bounds) or balance (|front - back| + 8 x straddling)",
-         "sah", {"sah", "balance"}, 0, 0},
+        choice_option("cost",
+                      "plane choice among the candidates: sah (fragments x area of each side's cell box cut to its "
+                      "fragments' bounds) or balance (|front - back| + 8 x straddling)",
+                      BspCost::Sah, kCosts),
         {"candidates", "triangles whose planes are tried per node (evenly spaced over the node's fragments)",
          std::to_string(d.candidates), {}, 1, 64},
         {"max-leaf", "nodes with more fragments are split while some candidate plane separates them",
          std::to_string(d.max_leaf), {}, 1, 64},
         {"max-depth", "deeper nodes become leaves", std::to_string(d.max_depth), {}, 1, long(kBspMaxDepth)},
-        {"fallback",
-         "axis: where the node's own planes only peel (the best leaves > 7/8 of the fragments on one side, as on "
-         "curved surfaces), also try axis-aligned median planes; none: own planes only (pure autopartition)",
-         "axis", {"axis", "none"}, 0, 0},
+        choice_option("fallback",
+                      "axis: where the node's own planes only peel (the best leaves > 7/8 of the fragments on one "
+                      "side, as on curved surfaces), also try axis-aligned median planes; none: own planes only "
+                      "(pure autopartition)",
+                      true, kAxisFallback),
         {"fragment-budget",
          "at most this many fragments per primitive in the whole tree (1: no triangle is ever cut); a split "
          "that would exceed its share makes a leaf",

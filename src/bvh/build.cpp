@@ -123,32 +123,15 @@ BvhData build_bvh(const BuildPrimitives& prims, const BvhBuildOptions& options) 
 }
 
 BvhFigures bvh_figures(const BvhData& bvh) {
-    BvhFigures f;
-    if (bvh.nodes_used == 0) return f;
-    const float root_area = bvh.nodes[0].bounds().half_area();
-    struct Item {
-        uint32_t node;
-        size_t depth;
+    if (bvh.nodes_used == 0) return {};
+    auto expand = [&](const TreeWalkItem& item, double, auto push) -> std::optional<size_t> {
+        const BvhNode& node = bvh.nodes[item.node];
+        if (node.is_leaf()) return node.count;
+        push({node.leftFirst, item.depth + 1, bvh.nodes[node.leftFirst].bounds()});
+        push({node.leftFirst + 1, item.depth + 1, bvh.nodes[node.leftFirst + 1].bounds()});
+        return std::nullopt;
     };
-    std::vector<Item> stack{{0, 0}};
-    while (!stack.empty()) {
-        const auto [n, depth] = stack.back();
-        stack.pop_back();
-        const BvhNode& node = bvh.nodes[n];
-        const double rel = root_area > 0.0f ? double(node.bounds().half_area()) / root_area : 1.0;
-        ++f.nodes;
-        f.max_depth = std::max(f.max_depth, depth);
-        if (node.is_leaf()) {
-            ++f.leaves;
-            f.max_leaf_size = std::max<size_t>(f.max_leaf_size, node.count);
-            f.sah_cost += rel * kSahIntersectionCost * node.count;
-        } else {
-            f.sah_cost += rel * kSahTraversalCost;
-            stack.push_back({node.leftFirst, depth + 1});
-            stack.push_back({node.leftFirst + 1, depth + 1});
-        }
-    }
-    return f;
+    return walk_tree(true, bvh.nodes[0].bounds(), expand);
 }
 
 void validate_bvh(const BvhData& bvh, size_t primitive_count) {

@@ -1,4 +1,4 @@
-#include "thicket/accel/dispatch.h"
+#include "accel/dispatch.h"
 #include "thicket/bvh/bvh.h"
 #include "thicket/core/error.h"
 
@@ -6,23 +6,30 @@ namespace thicket {
 
 namespace {
 
+// A new builder or traversal is one line here (and its own file): the listing, the parser and
+// build_options() all read these tables.
+constexpr Choice<BvhBuilder> kBuilders[] = {
+    {"midpoint", BvhBuilder::Midpoint},
+    {"binned-sah", BvhBuilder::BinnedSah},
+    {"sweep-sah", BvhBuilder::SweepSah},
+};
+constexpr Choice<BvhTraversal> kTraversals[] = {
+    {"recursive", BvhTraversal::Recursive},
+    {"stack", BvhTraversal::Stack},
+    {"ordered-distance", BvhTraversal::OrderedDistance},
+    {"ordered-axis", BvhTraversal::OrderedAxis},
+    {"ordered-centroid", BvhTraversal::OrderedCentroid},
+};
+
 BvhBuildOptions build_options(const AccelSpec& spec) {
     BvhBuildOptions o;
-    const std::string& b = spec.get("builder");
-    o.builder = b == "midpoint" ? BvhBuilder::Midpoint : (b == "sweep-sah" ? BvhBuilder::SweepSah : BvhBuilder::BinnedSah);
+    o.builder = spec.choice("builder", kBuilders);
     o.bins = int(spec.get_int("bins"));
     o.max_leaf = int(spec.get_int("max-leaf"));
     return o;
 }
 
-BvhTraversal traversal_option(const AccelSpec& spec) {
-    const std::string& t = spec.get("traversal");
-    if (t == "recursive") return BvhTraversal::Recursive;
-    if (t == "stack") return BvhTraversal::Stack;
-    if (t == "ordered-axis") return BvhTraversal::OrderedAxis;
-    if (t == "ordered-centroid") return BvhTraversal::OrderedCentroid;
-    return BvhTraversal::OrderedDistance;
-}
+BvhTraversal traversal_option(const AccelSpec& spec) { return spec.choice("traversal", kTraversals); }
 
 }  // namespace
 
@@ -32,18 +39,18 @@ void register_bvh(std::vector<AccelInfo>& registry) {
     info.summary = "the lecture's BVH: 32-byte nodes, node pool, in-place partition, SAH leaves";
     info.partitioning = Partitioning::Object;
     info.options = {
-        {"builder", "split choice: longest-axis midpoint, binned SAH (Wald 2007), or a full SAH sweep",
-         "binned-sah", {"midpoint", "binned-sah", "sweep-sah"}, 0, 0},
+        choice_option("builder", "split choice: longest-axis midpoint, binned SAH (Wald 2007), or a full SAH sweep",
+                      BvhBuilder::BinnedSah, kBuilders),
         {"bins", "bins per axis for binned-sah", "8", {}, 2, 256},
         {"max-leaf", "largest leaf; bigger nodes are split even when the SAH would stop", "8", {}, 1, 255},
-        {"traversal",
-         "recursive (the slide), stack (iterative), or ordered: nearest child by entry distance, by the ray's "
-         "sign on the stored split axis, or on the axis of widest child-centroid separation",
-         "ordered-distance", {"recursive", "stack", "ordered-distance", "ordered-axis", "ordered-centroid"}, 0, 0},
+        choice_option("traversal",
+                      "recursive (the slide), stack (iterative), or ordered: nearest child by entry distance, by "
+                      "the ray's sign on the stored split axis, or on the axis of widest child-centroid separation",
+                      BvhTraversal::OrderedDistance, kTraversals),
     };
-    for (const char* builder : {"midpoint", "binned-sah", "sweep-sah"})
-        for (const char* traversal : {"recursive", "stack", "ordered-distance", "ordered-axis", "ordered-centroid"})
-            info.variants.push_back(std::string("bvh:builder=") + builder + ",traversal=" + traversal);
+    for (const auto& builder : kBuilders)
+        for (const auto& traversal : kTraversals)
+            info.variants.push_back(std::string("bvh:builder=") + builder.name + ",traversal=" + traversal.name);
     info.variants.push_back("bvh:builder=binned-sah,traversal=ordered-distance,isect=watertight");
     info.variants.push_back("bvh:builder=binned-sah,bins=32,max-leaf=1,traversal=ordered-distance");
 

@@ -3,8 +3,9 @@
 #include <memory>
 #include <vector>
 
-#include "thicket/accel/accel.h"
 #include "thicket/bvh/build.h"
+#include "thicket/core/ray.h"
+#include "thicket/core/sah.h"
 
 namespace thicket::bvh_build {
 

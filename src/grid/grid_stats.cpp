@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 
-#include "thicket/accel/accel.h"
+#include "thicket/core/sah.h"
 
 namespace thicket {
 

@@ -1,5 +1,5 @@
 // Registration of the uniform grid and the two-level grid: spec options and tested variants.
-#include "thicket/accel/dispatch.h"
+#include "accel/dispatch.h"
 #include "thicket/grid/grid.h"
 #include "thicket/grid/grid2.h"
 
@@ -7,24 +7,25 @@ namespace thicket {
 
 namespace {
 
+constexpr Choice<bool> kMailbox[] = {{"on", true}, {"off", false}};
+constexpr Choice<GridAssign> kAssign[] = {{"clip", GridAssign::Clip}, {"bounds", GridAssign::Bounds}};
+
 OptionInfo mailbox_option() {
-    return {"mailbox",
-            "per-ray mailbox: each primitive is tested once per ray even when several cells reference it "
-            "(off: re-tested in every cell, to show the effect)",
-            "on", {"on", "off"}, 0, 0};
+    return choice_option("mailbox",
+                         "per-ray mailbox: each primitive is tested once per ray even when several cells reference "
+                         "it (off: re-tested in every cell, to show the effect)",
+                         true, kMailbox);
 }
 
 OptionInfo assign_option() {
-    return {"assign",
-            "which cells a primitive goes into: those it really overlaps (exact clipping for triangles and "
-            "for primitives with a clip hook; others fall back to their bounds), or every cell its bounding box "
-            "overlaps",
-            "clip", {"clip", "bounds"}, 0, 0};
+    return choice_option("assign",
+                         "which cells a primitive goes into: those it really overlaps (exact clipping for triangles "
+                         "and for primitives with a clip hook; others fall back to their bounds), or every cell its "
+                         "bounding box overlaps",
+                         GridAssign::Clip, kAssign);
 }
 
-GridAssign assign_of(const AccelSpec& spec) {
-    return spec.get("assign") == "bounds" ? GridAssign::Bounds : GridAssign::Clip;
-}
+GridAssign assign_of(const AccelSpec& spec) { return spec.choice("assign", kAssign); }
 
 }  // namespace
 
@@ -53,7 +54,7 @@ void register_grid(std::vector<AccelInfo>& registry) {
         GridOptions o;
         o.lambda = double(spec.get_int("lambda"));
         o.res = uint32_t(spec.get_int("res"));
-        o.mailbox = spec.get("mailbox") == "on";
+        o.mailbox = spec.choice("mailbox", kMailbox);
         o.assign = assign_of(spec);
         return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
             return std::make_unique<Grid<decltype(prims)>>(std::move(prims), o);
@@ -85,7 +86,7 @@ void register_grid2(std::vector<AccelInfo>& registry) {
         Grid2Options o;
         o.top_density = double(spec.get_int("top")) / 16.0;
         o.leaf_density = double(spec.get_int("leaf")) / 16.0;
-        o.mailbox = spec.get("mailbox") == "on";
+        o.mailbox = spec.choice("mailbox", kMailbox);
         o.assign = assign_of(spec);
         return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
             return std::make_unique<TwoLevelGrid<decltype(prims)>>(std::move(prims), o);

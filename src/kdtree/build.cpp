@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "builder.h"
-#include "thicket/accel/accel.h"
+#include "thicket/core/sah.h"
 
 namespace thicket {
 
@@ -49,39 +49,24 @@ KdTreeData build_kdtree(const KdBuildInput& input, const KdBuildOptions& options
 }
 
 KdFigures kdtree_figures(const KdTreeData& tree, const KdCostModel& cost) {
-    KdFigures f;
-    if (tree.nodes.empty()) return f;
-    const float root_area = tree.bounds.half_area();
-    struct Item {
-        uint32_t node;
-        Aabb voxel;
-        size_t depth;
-    };
-    std::vector<Item> stack{{0, tree.bounds, 0}};
-    while (!stack.empty()) {
-        const Item it = stack.back();
-        stack.pop_back();
-        const KdNode& node = tree.nodes[it.node];
-        const double rel = root_area > 0.0f ? double(it.voxel.half_area()) / root_area : 1.0;
-        ++f.nodes;
-        f.max_depth = std::max(f.max_depth, it.depth);
+    double builder_cost = 0.0;
+    auto expand = [&](const TreeWalkItem& item, double rel, auto push) -> std::optional<size_t> {
+        const KdNode& node = tree.nodes[item.node];
         if (node.is_leaf()) {
-            ++f.leaves;
-            f.empty_leaves += node.count() == 0;
-            f.references += node.count();
-            f.max_leaf_size = std::max<size_t>(f.max_leaf_size, node.count());
-            f.sah_cost += rel * kSahIntersectionCost * node.count();
-            f.builder_cost += rel * cost.intersection * node.count();
-        } else {
-            f.sah_cost += rel * kSahTraversalCost;
-            f.builder_cost += rel * cost.traversal;
-            Aabb below = it.voxel, above = it.voxel;
-            below.max[node.axis()] = node.split();
-            above.min[node.axis()] = node.split();
-            stack.push_back({node.above(), above, it.depth + 1});
-            stack.push_back({it.node + 1, below, it.depth + 1});
+            builder_cost += rel * cost.intersection * node.count();
+            return node.count();
         }
-    }
+        builder_cost += rel * cost.traversal;
+        Aabb below = item.box, above = item.box;
+        below.max[node.axis()] = node.split();
+        above.min[node.axis()] = node.split();
+        push({node.above(), item.depth + 1, above});
+        push({item.node + 1, item.depth + 1, below});
+        return std::nullopt;
+    };
+    KdFigures f;
+    static_cast<TreeFigures&>(f) = walk_tree(!tree.nodes.empty(), tree.bounds, expand);
+    f.builder_cost = builder_cost;
     return f;
 }
 

@@ -6,8 +6,9 @@
 #include <cmath>
 #include <string>
 
-#include "thicket/accel/accel.h"
 #include "thicket/core/error.h"
+#include "thicket/core/ray.h"
+#include "thicket/core/sah.h"
 #include "thicket/octree/build.h"
 
 namespace thicket {
@@ -193,34 +194,16 @@ OctreeData build_octree(std::span<const Aabb> bounds, const OctreeClip& clip, co
 }
 
 OctreeFigures octree_figures(const OctreeData& tree) {
-    OctreeFigures f;
-    if (tree.nodes.empty()) return f;
-    f.references = tree.refs.size();
-    const float root_area = tree.root.half_area();
-    struct Item {
-        uint32_t node;
-        size_t depth;
-        Aabb box;
-    };
-    std::vector<Item> stack{{0, 0, tree.root}};
-    while (!stack.empty()) {
-        const Item item = stack.back();
-        stack.pop_back();
-        const OctreeNode& node = tree.nodes[item.node];
-        // A point-sized root (one degenerate primitive) weighs every cell equally.
-        const double rel = root_area > 0.0f ? double(item.box.half_area()) / root_area : 1.0;
-        ++f.nodes;
-        f.max_depth = std::max(f.max_depth, item.depth);
-        if (node.is_leaf()) {
-            ++f.leaves;
-            f.empty_leaves += node.count == 0;
-            f.max_leaf_size = std::max<size_t>(f.max_leaf_size, node.count);
-            f.sah_cost += rel * kSahIntersectionCost * node.count;
-            continue;
-        }
-        f.sah_cost += rel * kSahTraversalCost;
-        for (int c = 7; c >= 0; --c) stack.push_back({node.index + uint32_t(c), item.depth + 1, octree_child_box(item.box, c)});
-    }
+    OctreeFigures f = walk_tree(!tree.nodes.empty(), tree.root,
+                                [&](const TreeWalkItem& item, double, auto push) -> std::optional<size_t> {
+                                    const OctreeNode& node = tree.nodes[item.node];
+                                    if (node.is_leaf()) return node.count;
+                                    for (int c = 7; c >= 0; --c)
+                                        push({node.index + uint32_t(c), item.depth + 1,
+                                              octree_child_box(item.box, c)});
+                                    return std::nullopt;
+                                });
+    if (!tree.nodes.empty()) f.references = tree.refs.size();
     return f;
 }
 

@@ -1,7 +1,16 @@
-#include "thicket/accel/dispatch.h"
+#include "accel/dispatch.h"
 #include "thicket/octree/octree.h"
 
 namespace thicket {
+
+namespace {
+
+constexpr Choice<OctreeTraversal> kTraversals[] = {
+    {"parametric", OctreeTraversal::Parametric},
+    {"restart", OctreeTraversal::Restart},
+};
+
+}  // namespace
 
 void register_octree(std::vector<AccelInfo>& registry) {
     AccelInfo info;
@@ -12,10 +21,11 @@ void register_octree(std::vector<AccelInfo>& registry) {
     info.options = {
         {"leaf-size", "a cell holding more primitives is split into its eight octants", "8", {}, 1, 255},
         {"max-depth", "deepest level (the root is level 0)", "10", {}, 0, long(kOctreeMaxDepth)},
-        {"traversal",
-         "parametric (Revelles, Urena & Lastra 2000: plane distances, first-node and next-node rules) or restart "
-         "(the lecture: locate the leaf at the current distance from the root, test it, continue at its exit)",
-         "parametric", {"parametric", "restart"}, 0, 0},
+        choice_option("traversal",
+                      "parametric (Revelles, Urena & Lastra 2000: plane distances, first-node and next-node rules) "
+                      "or restart (the lecture: locate the leaf at the current distance from the root, test it, "
+                      "continue at its exit)",
+                      OctreeTraversal::Parametric, kTraversals),
     };
     info.variants = {"octree", "octree:traversal=restart", "octree:leaf-size=2,max-depth=16",
                      "octree:traversal=restart,leaf-size=1,max-depth=4,isect=watertight"};
@@ -23,8 +33,7 @@ void register_octree(std::vector<AccelInfo>& registry) {
         OctreeBuildOptions o;
         o.leaf_size = int(spec.get_int("leaf-size"));
         o.max_depth = int(spec.get_int("max-depth"));
-        const OctreeTraversal t =
-            spec.get("traversal") == "restart" ? OctreeTraversal::Restart : OctreeTraversal::Parametric;
+        const OctreeTraversal t = spec.choice("traversal", kTraversals);
         return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
             return std::make_unique<Octree<decltype(prims)>>(std::move(prims), o, t);
         });

@@ -232,8 +232,9 @@ void check_surface(const BlobSum& s) {
     for (size_t i = 0; i < s.blobs.size(); ++i) {
         const Blob& b = s.blobs[i];
         const std::string which = "blobs: blob " + std::to_string(i) + ": ";
-        for (double c : b.center)
-            if (!std::isfinite(c)) throw Error(which + "center coordinate " + str(c) + " is not finite");
+        for (int k = 0; k < 3; ++k)
+            if (!std::isfinite(b.center[k]))
+                throw Error(which + "center coordinate " + str(b.center[k]) + " is not finite");
         if (!(b.radius > 0.0) || !std::isfinite(b.radius))
             throw Error(which + "radius must be positive and finite, got " + str(b.radius));
         if (!(b.weight > 0.0) || !std::isfinite(b.weight))
@@ -251,17 +252,6 @@ uint64_t hash_surface(const BlobSum& s, uint64_t h) {
     static_assert(sizeof(Blob) == 5 * sizeof(double), "Blob is hashed as its bytes");
     h = fnv1a(&s.threshold, sizeof s.threshold, h);
     return fnv1a(s.blobs.data(), s.blobs.size() * sizeof(Blob), h);
-}
-
-/// The float box enclosing a double box (each bound rounded outward).
-Aabb enclosing_float_box(const Vec3d& lo, const Vec3d& hi) {
-    Aabb b;
-    for (int k = 0; k < 3; ++k) {
-        const float l = float(lo[k]), h = float(hi[k]);
-        b.min[k] = double(l) > lo[k] ? std::nextafter(l, -INFINITY) : l;
-        b.max[k] = double(h) < hi[k] ? std::nextafter(h, INFINITY) : h;
-    }
-    return b;
 }
 
 }  // namespace
@@ -298,7 +288,7 @@ ImplicitKernel<S>::ImplicitKernel(S surface, const ImplicitOptions& options)
     }
     // The world box is computed in double and then rounded outward: it encloses the object box
     // up to double rounding, far below the slab test's slack.
-    bounds_ = enclosing_float_box(lo, hi);
+    bounds_ = outward_box(lo, hi);
     if (!finite(bounds_.min) || !finite(bounds_.max))
         throw Error("implicit: the shape's bounds overflow float (center " + str(options.center.x) + ", scale " +
                     str(options.scale) + ")");

@@ -59,13 +59,7 @@ Aabb Scene::bounds() const {
 }
 
 PrimRef Scene::locate(uint32_t prim) const {
-    if (runs.empty()) {
-        const auto tris = uint32_t(mesh.triangle_count());
-        return prim < tris ? PrimRef{false, prim} : PrimRef{true, prim - tris};
-    }
-    auto it = std::upper_bound(runs.begin(), runs.end(), prim, [](uint32_t p, const PrimRun& r) { return p < r.first; });
-    if (it != runs.begin()) --it;
-    return {it->shapes, it->index + (prim - it->first)};
+    return locate_prim(runs, uint32_t(mesh.triangle_count()), prim);
 }
 
 Vec3 Scene::geometric_normal(uint32_t prim) const {

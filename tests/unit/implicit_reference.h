@@ -16,7 +16,8 @@ double f_at(const S& s, const Vec3d& p) {
 }
 template <class S>
 Vec3d grad_at(const S& s, const Vec3d& p) {
-    return s.gradient(p[0], p[1], p[2]);
+    const auto g = s.gradient(p[0], p[1], p[2]);
+    return {g[0], g[1], g[2]};
 }
 inline double norm(const Vec3d& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
 inline double dotd(const Vec3d& a, const Vec3d& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }

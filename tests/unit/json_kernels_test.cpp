@@ -14,6 +14,7 @@
 #include "thicket/core/error.h"
 #include "thicket/prims/control_mesh.h"
 #include "thicket/prims/teapot_patches.h"
+#include "thicket/scene/loaders.h"
 #include "thicket/scene/scene.h"
 
 namespace thicket {

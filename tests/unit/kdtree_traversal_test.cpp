@@ -322,7 +322,7 @@ TEST(KdTraversal, AHitInTheNextCellReportedJustBeforeTheCurrentOneIsNotLost) {
     ASSERT_EQ(brute.intersect(ray).prim, 1u);
     for (KdTraversal traversal : {KdTraversal::Stack, KdTraversal::Restart}) {
         NoCounters none;
-        const Hit hit = kd_closest_hit(tree, walls, ray, traversal, none);
+        const Hit hit = closest_hit<kd_detail::KdQuery>(tree, walls, ray, none, traversal);
         EXPECT_EQ(hit.prim, 1u) << (traversal == KdTraversal::Stack ? "stack" : "restart");
         EXPECT_EQ(hit.t, brute.intersect(ray).t);
     }

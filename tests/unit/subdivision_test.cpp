@@ -12,6 +12,7 @@
 
 #include "thicket/core/error.h"
 #include "thicket/prims/subdivision.h"
+#include "thicket/scene/loaders.h"
 
 namespace thicket {
 namespace {

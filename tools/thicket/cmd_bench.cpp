@@ -40,42 +40,14 @@ struct BenchArgs {
 
 // Every spec asked for, `all` expanded, duplicates dropped, each checked before any slow work.
 std::vector<TracerFactory> thicket_tracers(const std::vector<std::string>& accels) {
-    std::vector<std::string> specs;
-    for (const std::string& a : accels) {
-        if (a == "all") {
-            for (const std::string& v : all_accel_variants()) specs.push_back(v);
-        } else {
-            specs.push_back(a);
-        }
-    }
     std::vector<TracerFactory> out;
-    std::vector<std::string> seen;
-    for (const std::string& s : specs) {
-        if (std::find(seen.begin(), seen.end(), s) != seen.end()) continue;
-        seen.push_back(s);
-        out.push_back(accel_tracer_factory(s));
-    }
+    for (const std::string& s : expand_accel_specs(accels)) out.push_back(accel_tracer_factory(s));
     return out;
 }
 
-// The 1-minute load average (Linux), or "" where unknown: other work on the machine is the first
-// thing to rule out when timings look noisy.
-std::string load_average() {
-    std::FILE* f = std::fopen("/proc/loadavg", "r");
-    if (!f) return "";
-    double one = 0.0;
-    const bool ok = std::fscanf(f, "%lf", &one) == 1;
-    std::fclose(f);
-    if (!ok) return "";
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.2f", one);
-    return buf;
-}
-
 void print_machine(const char* when) {
-    const std::string load = load_average();
     std::printf("machine %u hardware threads; load average %s %s the run\n", resolve_threads(0),
-                load.empty() ? "unknown" : load.c_str(), when);
+                load_average().c_str(), when);
 }
 
 std::string scene_label(const std::string& path) {

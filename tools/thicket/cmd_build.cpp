@@ -18,10 +18,10 @@ struct BuildArgs {
 };
 
 int run_build(const BuildArgs& args) {
-    validate_accel_choice(args.accel);
+    const std::optional<AccelSpec> spec = validate_accel_choice(args.accel);
     refuse_overwrite(args.output, args.force);
     const Scene scene = load_scene_verbose(args.scene);
-    const std::unique_ptr<Accel> accel = make_accel_verbose(args.accel, scene);
+    const std::unique_ptr<Accel> accel = make_accel_verbose(args.accel, spec, scene);
     write_atomically(args.output, [&](const std::string& temp) { save_accel(*accel, scene, temp); });
     std::error_code size_ec;
     const auto bytes = std::filesystem::file_size(args.output, size_ec);

@@ -45,18 +45,6 @@ struct CompareArgs {
     bool force = false;
 };
 
-// The 1-minute load average (Linux), or "unknown": other work on the machine is the first thing
-// to rule out when timings look noisy (as in `thicket bench`).
-std::string load_average() {
-    std::FILE* f = std::fopen("/proc/loadavg", "r");
-    double one = 0.0;
-    const bool ok = f && std::fscanf(f, "%lf", &one) == 1;
-    if (f) std::fclose(f);
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.2f", one);
-    return ok ? buf : "unknown";
-}
-
 std::string scene_label(const std::string& path) {
     const fs::path p(path);
     return p.has_filename() && p.has_extension() ? p.filename().string() : path;
@@ -115,19 +103,8 @@ void write_output(const std::string& path, const std::string& bytes, const char*
 }
 
 std::vector<std::string> compare_specs(const std::vector<std::string>& asked) {
-    std::vector<std::string> expanded;
-    for (const std::string& s : asked.empty() ? default_compare_specs() : asked) {
-        if (s == "all") {
-            for (const std::string& v : all_accel_variants()) expanded.push_back(v);
-        } else {
-            expanded.push_back(s);
-        }
-    }
-    std::vector<std::string> specs;
-    for (const std::string& s : expanded) {
-        parse_accel_spec(s);  // a typo fails now, not after the first structure's minutes
-        if (std::find(specs.begin(), specs.end(), s) == specs.end()) specs.push_back(s);
-    }
+    // Checked now: a typo fails before the first structure's minutes.
+    const std::vector<std::string> specs = expand_accel_specs(asked.empty() ? default_compare_specs() : asked);
     if (specs.empty()) throw Error("no structure to compare (every registered one is brute force: name it with --accel)");
     return specs;
 }

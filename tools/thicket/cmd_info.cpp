@@ -78,10 +78,11 @@ void print_accel(const Accel& accel) {
 }
 
 int run_info(const InfoArgs& args) {
-    if (!args.no_accel) validate_accel_choice(args.accel);
+    std::optional<AccelSpec> spec;
+    if (!args.no_accel) spec = validate_accel_choice(args.accel);
     const Scene scene = load_scene_verbose(args.scene);
     std::unique_ptr<Accel> accel;
-    if (!args.no_accel) accel = make_accel_verbose(args.accel, scene);
+    if (!args.no_accel) accel = make_accel_verbose(args.accel, spec, scene);
     print_scene(scene);
     if (accel) print_accel(*accel);
     return 0;

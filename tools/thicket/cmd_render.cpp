@@ -55,10 +55,10 @@ int run_render(const RenderArgs& args) {
     if (!(args.heat_max >= 0.0)) throw Error("--heat-max must be a number of nodes >= 0 (0: the image's maximum)");
     std::optional<Camera> camera;
     if (!args.camera.empty()) camera = parse_camera(args.camera);
-    validate_accel_choice(args.accel);
+    const std::optional<AccelSpec> spec = validate_accel_choice(args.accel);
 
     const Scene scene = load_scene_verbose(args.scene);
-    const std::unique_ptr<Accel> accel = make_accel_verbose(args.accel, scene);
+    const std::unique_ptr<Accel> accel = make_accel_verbose(args.accel, spec, scene);
     if (!camera) camera = auto_camera(scene.bounds(), float(options.width) / float(options.height));
     std::printf("camera  --camera %s,%s,%g%s\n", vec_text(camera->position()).c_str(),
                 vec_text(camera->target()).c_str(), double(camera->fov_degrees()), args.camera.empty() ? " (auto)" : "");

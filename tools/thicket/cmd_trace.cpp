@@ -24,27 +24,13 @@ struct TraceArgs {
     unsigned threads = 0;
 };
 
-// Rays that have no meaning are answered as misses rather than passed to the structure, whose
-// traversal assumes finite origins and a non-zero direction.
-bool make_ray(const float* r, Ray& ray) {
-    for (int i = 0; i < 6; ++i)
-        if (!std::isfinite(r[i])) return false;
-    if (std::isnan(r[6]) || std::isnan(r[7]) || r[6] > r[7]) return false;
-    if (r[3] == 0.0f && r[4] == 0.0f && r[5] == 0.0f) return false;
-    ray.org = {r[0], r[1], r[2]};
-    ray.dir = {r[3], r[4], r[5]};
-    ray.tmin = r[6];
-    ray.tmax = r[7];
-    return true;
-}
-
 int run_trace(const TraceArgs& args) {
-    validate_accel_choice(args.accel);
+    const std::optional<AccelSpec> spec = validate_accel_choice(args.accel);
     const NpyFloatArray rays = read_npy_matrix(args.rays, 8);
     const size_t n = rays.shape[0];
     std::printf("rays    %s: %zu rays\n", args.rays.c_str(), n);
     const Scene scene = load_scene_verbose(args.scene);
-    const std::unique_ptr<Accel> accel = make_accel_verbose(args.accel, scene);
+    const std::unique_ptr<Accel> accel = make_accel_verbose(args.accel, spec, scene);
 
     std::vector<Hit> hits(args.any_hit ? 0 : n);
     std::vector<uint8_t> occluded(args.any_hit ? n : 0);

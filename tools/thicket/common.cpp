@@ -1,5 +1,6 @@
 #include "common.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -44,8 +45,9 @@ void add_threads_option(CLI::App* cmd, unsigned& threads) {
         ->type_name("N");
 }
 
-void validate_accel_choice(const AccelChoice& choice) {
-    if (choice.load.empty()) parse_accel_spec(choice.spec);
+std::optional<AccelSpec> validate_accel_choice(const AccelChoice& choice) {
+    if (!choice.load.empty()) return std::nullopt;
+    return parse_accel_spec(choice.spec);
 }
 
 double ms_since(std::chrono::steady_clock::time_point start) {
@@ -74,7 +76,36 @@ Scene load_scene_verbose(const std::string& path) {
     return scene;
 }
 
-std::unique_ptr<Accel> make_accel_verbose(const AccelChoice& choice, const Scene& scene) {
+std::vector<std::string> expand_accel_specs(const std::vector<std::string>& asked) {
+    std::vector<std::string> expanded;
+    for (const std::string& s : asked) {
+        if (s == "all") {
+            const std::vector<std::string> all = all_accel_variants();
+            expanded.insert(expanded.end(), all.begin(), all.end());
+        } else {
+            expanded.push_back(s);
+        }
+    }
+    std::vector<std::string> specs;
+    for (const std::string& s : expanded) {
+        parse_accel_spec(s);
+        if (std::find(specs.begin(), specs.end(), s) == specs.end()) specs.push_back(s);
+    }
+    return specs;
+}
+
+std::string load_average() {
+    std::FILE* f = std::fopen("/proc/loadavg", "r");
+    double one = 0.0;
+    const bool ok = f && std::fscanf(f, "%lf", &one) == 1;
+    if (f) std::fclose(f);
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.2f", one);
+    return ok ? buf : "unknown";
+}
+
+std::unique_ptr<Accel> make_accel_verbose(const AccelChoice& choice, const std::optional<AccelSpec>& spec,
+                                          const Scene& scene) {
     std::unique_ptr<Accel> accel;
     std::string how;
     if (!choice.load.empty()) {
@@ -82,7 +113,7 @@ std::unique_ptr<Accel> make_accel_verbose(const AccelChoice& choice, const Scene
         accel = load_accel(choice.load, scene);
         how = "loaded from " + choice.load + " in " + format_duration(ms_since(start) / 1000);
     } else {
-        accel = build_accel(choice.spec, scene);
+        accel = spec ? build_accel(*spec, scene) : build_accel(choice.spec, scene);
     }
     const AccelStats st = accel->stats();
     if (how.empty()) how = "built in " + format_duration(st.build_ms / 1000);

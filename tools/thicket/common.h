@@ -5,6 +5,8 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
+#include <vector>
 #include <string>
 
 #include "thicket/accel/registry.h"
@@ -40,12 +42,15 @@ void add_accel_options(CLI::App* cmd, AccelChoice& choice, bool accel_required =
 /// Adds --threads N (0, the default, uses every core).
 void add_threads_option(CLI::App* cmd, unsigned& threads);
 
-/// Checks --accel's spec before any slow work, so a typo fails at once (throws Error).
-void validate_accel_choice(const AccelChoice& choice);
+/// Parses --accel's spec before any slow work, so a typo fails at once (throws Error). Returns
+/// the parsed spec for make_accel_verbose() (the spec is parsed once); nullopt with --load.
+std::optional<AccelSpec> validate_accel_choice(const AccelChoice& choice);
 /// Loads the scene and prints one line about it.
 Scene load_scene_verbose(const std::string& path);
 /// Builds (or loads with --load) the structure and prints one line about it.
-std::unique_ptr<Accel> make_accel_verbose(const AccelChoice& choice, const Scene& scene);
+/// `spec`: validate_accel_choice()'s result for `choice`.
+std::unique_ptr<Accel> make_accel_verbose(const AccelChoice& choice, const std::optional<AccelSpec>& spec,
+                                          const Scene& scene);
 
 /// "12.3 KiB" style byte counts.
 std::string format_bytes(double bytes);
@@ -53,6 +58,13 @@ std::string format_bytes(double bytes);
 /// Throws Error "PATH already exists (use --force to overwrite it)" unless `force`, the path is
 /// empty (no such output asked for), or nothing is there. Call it before the slow work.
 void refuse_overwrite(const std::string& path, bool force);
+/// `asked` with every `all` replaced by every registered variant (all_accel_variants()),
+/// duplicates dropped (the first kept), each spec parsed so that a typo throws Error before any
+/// slow work.
+std::vector<std::string> expand_accel_specs(const std::vector<std::string>& asked);
+/// The 1-minute load average (Linux), or "unknown": other work on the machine is the first
+/// thing to rule out when timings look noisy.
+std::string load_average();
 /// Milliseconds since `start` (a steady_clock time point).
 double ms_since(std::chrono::steady_clock::time_point start);
 

@@ -12,13 +12,10 @@
 
 #include "thicket/core/aabb.h"
 #include "thicket/core/ray.h"
+#include "thicket/core/sah.h"
+#include "thicket/core/tree_figures.h"
 
 namespace thicket {
-
-/// SAH cost constants used for every reported SAH cost: cost(leaf) = C_isect * count,
-/// cost(interior) = C_trav + sum over children of area(child)/area(node) * cost(child).
-inline constexpr float kSahTraversalCost = 1.0f;
-inline constexpr float kSahIntersectionCost = 1.0f;
 
 struct AccelStats {
     std::string spec;          ///< canonical spec string of the structure
@@ -65,6 +62,18 @@ protected:
         AccelStats s;
         s.spec = spec_;
         s.build_ms = build_ms_;
+        return s;
+    }
+    /// base_stats() plus a tree's figures (nodes, leaves, depth, SAH cost) and the sizes.
+    AccelStats tree_stats(const TreeFigures& f, size_t primitives, size_t bytes, size_t primitive_bytes) const {
+        AccelStats s = base_stats();
+        s.primitives = primitives;
+        s.nodes = f.nodes;
+        s.leaves = f.leaves;
+        s.max_depth = f.max_depth;
+        s.bytes = bytes;
+        s.primitive_bytes = primitive_bytes;
+        s.sah_cost = f.sah_cost;
         return s;
     }
 

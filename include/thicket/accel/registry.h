@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "thicket/accel/accel.h"
@@ -15,6 +16,8 @@
 namespace thicket {
 
 /// One named option of a structure: either one of `choices`, or an integer in [min, max].
+/// Choice options are best made with choice_option() from the same table the builder reads the
+/// value with (AccelSpec::choice), so the listing, the parser and the builder cannot disagree.
 struct OptionInfo {
     std::string key;
     std::string help;
@@ -23,6 +26,27 @@ struct OptionInfo {
     long min = 0, max = 0;
 };
 
+/// One allowed value of a choice option: its spelling in a spec and the value it stands for.
+/// A structure declares each choice option as one array of these, e.g.
+///   constexpr Choice<BvhBuilder> kBuilders[] = {{"midpoint", BvhBuilder::Midpoint}, ...};
+template <class T>
+struct Choice {
+    const char* name;
+    T value;
+};
+
+/// The OptionInfo of the option `key` whose allowed values are the names of `table`, listed in
+/// the table's order; the default is the name of `fallback`, which must be in the table.
+template <class T, size_t N>
+OptionInfo choice_option(std::string key, std::string help, T fallback, const Choice<T> (&table)[N]) {
+    OptionInfo o{std::move(key), std::move(help), {}, {}, 0, 0};
+    for (const Choice<T>& c : table) {
+        o.choices.push_back(c.name);
+        if (o.default_value.empty() && c.value == fallback) o.default_value = c.name;
+    }
+    return o;
+}
+
 /// A parsed, validated spec with every option present (defaults filled in).
 struct AccelSpec {
     std::string name;
@@ -30,8 +54,24 @@ struct AccelSpec {
 
     const std::string& get(const std::string& key) const;
     long get_int(const std::string& key) const;
+    /// The value `table` gives option `key`. Throws Error listing the table's names when the
+    /// option holds anything else: no value silently becomes a default.
+    template <class T, size_t N>
+    T choice(const std::string& key, const Choice<T> (&table)[N]) const {
+        const std::string& value = get(key);
+        std::vector<std::string> names;
+        for (const Choice<T>& c : table) {
+            if (value == c.name) return c.value;
+            names.push_back(c.name);
+        }
+        refuse_choice(key, names);
+    }
     /// Canonical form: name, then every option in key order.
     std::string str() const;
+
+private:
+    /// Throws Error("NAME: key=value is not allowed; choose one of a, b, ...").
+    [[noreturn]] void refuse_choice(const std::string& key, const std::vector<std::string>& allowed) const;
 };
 
 /// How a structure divides the scene (the lecture's comparison table, `thicket compare`):
@@ -75,6 +115,9 @@ std::vector<std::string> all_accel_variants();
 
 /// Parses `spec` and builds the structure over `scene`, filling stats().build_ms.
 std::unique_ptr<Accel> build_accel(std::string_view spec, const Scene& scene);
+/// Builds from a spec parse_accel_spec() already parsed (a caller that validated the spec up
+/// front need not parse it again).
+std::unique_ptr<Accel> build_accel(const AccelSpec& spec, const Scene& scene);
 
 /// Saves/loads a structure with a versioned, checksummed header bound to the scene's fingerprint.
 void save_accel(const Accel& accel, const Scene& scene, const std::string& path);

@@ -30,23 +30,18 @@ public:
 
     template <class C>
     Hit closest(const Ray& ray, C& counters) const {
-        return bih_closest_hit(data_, prims_, ray, counters);
+        return closest_hit<bih_detail::Query>(data_, prims_, ray, counters);
     }
     template <class C>
     bool any(const Ray& ray, C& counters) const {
-        return bih_any_hit(data_, prims_, ray, counters);
+        return any_hit<bih_detail::Query>(data_, prims_, ray, counters);
     }
 
     AccelStats stats() const override {
-        AccelStats s = this->base_stats();
         const BihFigures f = bih_figures(data_);
-        s.primitives = prims_.size();
-        s.nodes = f.nodes;
-        s.leaves = f.leaves;
-        s.max_depth = f.max_depth;
-        s.bytes = data_.nodes.size() * sizeof(BihNode) + data_.prim_indices.size() * sizeof(uint32_t);
-        s.primitive_bytes = prims_.bytes();
-        s.sah_cost = f.sah_cost;
+        AccelStats s = this->tree_stats(
+            f, prims_.size(), data_.nodes.size() * sizeof(BihNode) + data_.prim_indices.size() * sizeof(uint32_t),
+            prims_.bytes());
         s.extra.emplace_back("node size", std::to_string(sizeof(BihNode)) + " bytes");
         s.extra.emplace_back("empty leaves", std::to_string(f.empty_leaves));
         s.extra.emplace_back("largest leaf", std::to_string(f.max_leaf_size));

@@ -5,6 +5,7 @@
 #include <span>
 
 #include "thicket/bih/node.h"
+#include "thicket/core/tree_figures.h"
 
 namespace thicket {
 
@@ -27,10 +28,7 @@ BihData build_bih(std::span<const Aabb> bounds, const BihBuildOptions& options);
 
 /// Figures of a built BIH. Child boxes are the parent's box clipped by the child's plane, the
 /// root's box is the scene's bounds; sah_cost uses kSahTraversalCost and kSahIntersectionCost.
-struct BihFigures {
-    size_t nodes = 0, leaves = 0, empty_leaves = 0, max_depth = 0, max_leaf_size = 0;
-    double sah_cost = 0.0;
-};
+using BihFigures = TreeFigures;
 BihFigures bih_figures(const BihData& bih);
 
 /// Checks the structural invariants (indices in range, children after parents, depth bounded,

@@ -7,7 +7,8 @@
 /// closer than its entry has been found meanwhile. Children are ordered by the ray's sign on the
 /// split axis, like the planes of the slab test, so +0 and -0 components are consistent.
 #include "thicket/bih/node.h"
-#include "thicket/bih/slab_interval.h"
+#include "thicket/core/hit_query.h"
+#include "thicket/core/slab_interval.h"
 #include "thicket/prims/primitive_set.h"
 
 namespace thicket {
@@ -101,20 +102,5 @@ struct Query {
 };
 
 }  // namespace bih_detail
-
-/// Closest hit within [ray.tmin, ray.tmax] (prim == kNoPrim on a miss).
-template <PrimitiveSet Prims, class C>
-Hit bih_closest_hit(const BihData& bih, const Prims& prims, const Ray& ray, C& counters) {
-    Hit hit = miss_for(ray);
-    bih_detail::Query<false, Prims, C>(bih, prims, ray, hit, counters).run();
-    return hit;
-}
-
-/// Whether anything is hit within [ray.tmin, ray.tmax]; stops at the first hit.
-template <PrimitiveSet Prims, class C>
-bool bih_any_hit(const BihData& bih, const Prims& prims, const Ray& ray, C& counters) {
-    Hit unused = miss_for(ray);
-    return bih_detail::Query<true, Prims, C>(bih, prims, ray, unused, counters).run();
-}
 
 }  // namespace thicket

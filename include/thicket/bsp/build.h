@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "thicket/bsp/node.h"
+#include "thicket/core/tree_figures.h"
 
 namespace thicket {
 
@@ -58,10 +59,7 @@ BspData build_bsp_boxes(std::span<const Aabb> bounds, const BspClip& clip, const
 /// Figures of a built tree. The SAH cost uses each node's cell box (the root's box cut by the
 /// planes on its path, as a box) relative to the root's, with kSahTraversalCost and
 /// kSahIntersectionCost.
-struct BspFigures {
-    size_t nodes = 0, leaves = 0, max_depth = 0, max_leaf_size = 0, empty_leaves = 0;
-    double sah_cost = 0.0;
-};
+using BspFigures = TreeFigures;
 BspFigures bsp_figures(const BspData& bsp);
 
 /// Checks the structural invariants (references in range, children after parents, depth

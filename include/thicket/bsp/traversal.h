@@ -22,8 +22,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "thicket/accel/mailbox.h"
 #include "thicket/bsp/node.h"
+#include "thicket/core/hit_query.h"
+#include "thicket/core/mailbox.h"
 #include "thicket/core/ray_box.h"
 #include "thicket/prims/primitive_set.h"
 
@@ -129,19 +130,21 @@ bool query(const BspData& bsp, const Prims& prims, const Ray& ray, Hit& hit, C& 
 
 }  // namespace bsp_detail
 
-/// Closest hit within [ray.tmin, ray.tmax] (prim == kNoPrim on a miss).
-template <PrimitiveSet Prims, class C>
-Hit bsp_closest_hit(const BspData& bsp, const Prims& prims, const Ray& ray, C& counters) {
-    Hit hit = miss_for(ray);
-    bsp_detail::query<false>(bsp, prims, ray, hit, counters);
-    return hit;
-}
+namespace bsp_detail {
 
-/// Whether anything is hit within [ray.tmin, ray.tmax]; stops at the first hit.
-template <PrimitiveSet Prims, class C>
-bool bsp_any_hit(const BspData& bsp, const Prims& prims, const Ray& ray, C& counters) {
-    Hit unused = miss_for(ray);
-    return bsp_detail::query<true>(bsp, prims, ray, unused, counters);
-}
+/// query() in the shape closest_hit()/any_hit() take.
+template <bool AnyHit, class Prims, class C>
+struct Query {
+    const BspData& bsp;
+    const Prims& prims;
+    const Ray& ray;
+    Hit& hit;
+    C& counters;
+    Query(const BspData& b, const Prims& p, const Ray& r, Hit& h, C& c)
+        : bsp(b), prims(p), ray(r), hit(h), counters(c) {}
+    bool run() const { return query<AnyHit>(bsp, prims, ray, hit, counters); }
+};
+
+}  // namespace bsp_detail
 
 }  // namespace thicket

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "thicket/bvh/node.h"
+#include "thicket/core/tree_figures.h"
 
 namespace thicket {
 
@@ -26,11 +27,8 @@ struct BuildPrimitives {
 /// (kSahTraversalCost, kSahIntersectionCost) and the node holds at most max_leaf primitives.
 BvhData build_bvh(const BuildPrimitives& prims, const BvhBuildOptions& options);
 
-/// Figures of a built BVH.
-struct BvhFigures {
-    size_t nodes = 0, leaves = 0, max_depth = 0, max_leaf_size = 0;
-    double sah_cost = 0.0;
-};
+/// Figures of a built BVH (node boxes as stored).
+using BvhFigures = TreeFigures;
 BvhFigures bvh_figures(const BvhData& bvh);
 
 /// Checks the structural invariants (indices in range, children after parents, depth bounded,

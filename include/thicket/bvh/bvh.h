@@ -34,23 +34,19 @@ public:
 
     template <class C>
     Hit closest(const Ray& ray, C& counters) const {
-        return bvh_closest_hit(data_, prims_, ray, traversal_, counters);
+        return closest_hit<bvh_detail::Query>(data_, prims_, ray, counters, traversal_);
     }
     template <class C>
     bool any(const Ray& ray, C& counters) const {
-        return bvh_any_hit(data_, prims_, ray, traversal_, counters);
+        return any_hit<bvh_detail::Query>(data_, prims_, ray, counters, traversal_);
     }
 
     AccelStats stats() const override {
-        AccelStats s = this->base_stats();
         const BvhFigures f = bvh_figures(data_);
-        s.primitives = prims_.size();
-        s.nodes = f.nodes;
-        s.leaves = f.leaves;
-        s.max_depth = f.max_depth;
-        s.bytes = size_t(data_.nodes_used) * (sizeof(BvhNode) + 1) + data_.prim_indices.size() * sizeof(uint32_t);
-        s.primitive_bytes = prims_.bytes();
-        s.sah_cost = f.sah_cost;
+        AccelStats s = this->tree_stats(
+            f, prims_.size(),
+            size_t(data_.nodes_used) * (sizeof(BvhNode) + 1) + data_.prim_indices.size() * sizeof(uint32_t),
+            prims_.bytes());
         s.extra.emplace_back("largest leaf", std::to_string(f.max_leaf_size));
         s.extra.emplace_back("node pool", std::to_string(data_.nodes.size()) + " nodes allocated, " +
                                               std::to_string(data_.nodes_used) + " used (slot 1 unused)");

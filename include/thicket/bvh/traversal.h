@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "thicket/bvh/node.h"
+#include "thicket/core/hit_query.h"
 #include "thicket/core/ray_box.h"
 #include "thicket/prims/primitive_set.h"
 
@@ -145,20 +146,5 @@ struct Query {
 };
 
 }  // namespace bvh_detail
-
-/// Closest hit within [ray.tmin, ray.tmax] (prim == kNoPrim on a miss).
-template <PrimitiveSet Prims, class C>
-Hit bvh_closest_hit(const BvhData& bvh, const Prims& prims, const Ray& ray, BvhTraversal traversal, C& counters) {
-    Hit hit = miss_for(ray);
-    bvh_detail::Query<false, Prims, C>(bvh, prims, ray, hit, counters).run(traversal);
-    return hit;
-}
-
-/// Whether anything is hit within [ray.tmin, ray.tmax]; stops at the first hit.
-template <PrimitiveSet Prims, class C>
-bool bvh_any_hit(const BvhData& bvh, const Prims& prims, const Ray& ray, BvhTraversal traversal, C& counters) {
-    Hit unused = miss_for(ray);
-    return bvh_detail::Query<true, Prims, C>(bvh, prims, ray, unused, counters).run(traversal);
-}
 
 }  // namespace thicket

@@ -1,5 +1,6 @@
 #pragma once
 /// Ray and hit records shared by every structure and primitive.
+#include <cmath>
 #include <cstdint>
 #include <limits>
 
@@ -17,6 +18,22 @@ struct Ray {
     Vec3 dir;
     float tmax = kInfinity;
 };
+
+/// The ray of 8 floats (origin x y z, direction x y z, tmin, tmax) as ray files and bindings hold
+/// them. False, and `ray` untouched, for a ray without meaning: a non-finite origin or direction,
+/// a zero direction, a NaN or reversed interval. Such rays are to be answered as misses, not
+/// traced: every traversal assumes a finite origin and a non-zero direction.
+inline bool make_ray(const float* r, Ray& ray) {
+    for (int i = 0; i < 6; ++i)
+        if (!std::isfinite(r[i])) return false;
+    if (std::isnan(r[6]) || std::isnan(r[7]) || r[6] > r[7]) return false;
+    if (r[3] == 0.0f && r[4] == 0.0f && r[5] == 0.0f) return false;
+    ray.org = {r[0], r[1], r[2]};
+    ray.dir = {r[3], r[4], r[5]};
+    ray.tmin = r[6];
+    ray.tmax = r[7];
+    return true;
+}
 
 /// Closest-hit record. prim == kNoPrim means no hit. (u, v) are the primitive's surface
 /// parameters; for triangles the barycentric weights of vertices 1 and 2.

@@ -3,9 +3,9 @@
 /// and the two-level grid.
 #include <cstdint>
 
+#include "thicket/core/mailbox.h"
 #include "thicket/core/ray.h"
 #include "thicket/grid/cells.h"
-#include "thicket/grid/mailbox.h"
 
 namespace thicket {
 

@@ -8,6 +8,7 @@
 #include <span>
 #include <string>
 
+#include "thicket/core/tree_figures.h"
 #include "thicket/kdtree/node.h"
 #include "thicket/kdtree/sah.h"
 
@@ -41,13 +42,9 @@ uint32_t kd_max_depth(const KdBuildOptions& options, size_t primitives);
 KdTreeData build_kdtree(const KdBuildInput& input, const KdBuildOptions& options);
 
 /// Figures of a built tree. Voxel areas are recomputed from the root voxel and the splits.
-struct KdFigures {
-    size_t nodes = 0, leaves = 0, empty_leaves = 0, references = 0, max_depth = 0, max_leaf_size = 0;
-    /// Sum over interior nodes of A(n)/A(root) * C_trav plus over leaves of A(l)/A(root) * C_isect
-    /// * count, with kSahTraversalCost and kSahIntersectionCost (the figure every structure reports).
-    double sah_cost = 0.0;
-    /// The same sum with the builder's K_T and K_I (no empty-space bonus: it biases the choice of
-    /// planes, it is not a cost of the tree).
+struct KdFigures : TreeFigures {
+    /// The SAH sum with the builder's K_T and K_I (no empty-space bonus: it biases the choice of
+    /// planes, it is not a cost of the tree); sah_cost is the figure every structure reports.
     double builder_cost = 0.0;
 };
 KdFigures kdtree_figures(const KdTreeData& tree, const KdCostModel& cost = {});

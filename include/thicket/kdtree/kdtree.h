@@ -34,23 +34,18 @@ public:
 
     template <class C>
     Hit closest(const Ray& ray, C& counters) const {
-        return kd_closest_hit(data_, prims_, ray, traversal_, counters);
+        return closest_hit<kd_detail::KdQuery>(data_, prims_, ray, counters, traversal_);
     }
     template <class C>
     bool any(const Ray& ray, C& counters) const {
-        return kd_any_hit(data_, prims_, ray, traversal_, counters);
+        return any_hit<kd_detail::KdQuery>(data_, prims_, ray, counters, traversal_);
     }
 
     AccelStats stats() const override {
-        AccelStats s = this->base_stats();
         const KdFigures f = kdtree_figures(data_, options_.cost);
-        s.primitives = prims_.size();
-        s.nodes = f.nodes;
-        s.leaves = f.leaves;
-        s.max_depth = f.max_depth;
-        s.bytes = data_.nodes.size() * sizeof(KdNode) + data_.prim_indices.size() * sizeof(uint32_t);
-        s.primitive_bytes = prims_.bytes();
-        s.sah_cost = f.sah_cost;
+        AccelStats s = this->tree_stats(
+            f, prims_.size(), data_.nodes.size() * sizeof(KdNode) + data_.prim_indices.size() * sizeof(uint32_t),
+            prims_.bytes());
         const double refs = prims_.size() ? double(f.references) / double(prims_.size()) : 0.0;
         auto fixed = [](double v, int digits) {
             std::string out(32, '\0');

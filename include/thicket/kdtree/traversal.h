@@ -22,8 +22,9 @@
 /// Primitives referenced by several leaves are tested once per query (Mailbox).
 #include <cmath>
 
+#include "thicket/core/hit_query.h"
+#include "thicket/core/mailbox.h"
 #include "thicket/core/ray_box.h"
-#include "thicket/accel/mailbox.h"
 #include "thicket/kdtree/node.h"
 #include "thicket/prims/primitive_set.h"
 
@@ -256,22 +257,5 @@ struct KdQuery {
 };
 
 }  // namespace kd_detail
-
-/// Closest hit within [ray.tmin, ray.tmax] (prim == kNoPrim on a miss).
-template <PrimitiveSet Prims, class C>
-Hit kd_closest_hit(const KdTreeData& tree, const Prims& prims, const Ray& ray, KdTraversal traversal,
-                   C& counters) {
-    Hit hit = miss_for(ray);
-    kd_detail::KdQuery<false, Prims, C>(tree, prims, ray, hit, counters).run(traversal);
-    return hit;
-}
-
-/// Whether anything is hit within [ray.tmin, ray.tmax]; stops at the first hit.
-template <PrimitiveSet Prims, class C>
-bool kd_any_hit(const KdTreeData& tree, const Prims& prims, const Ray& ray, KdTraversal traversal,
-                C& counters) {
-    Hit unused = miss_for(ray);
-    return kd_detail::KdQuery<true, Prims, C>(tree, prims, ray, unused, counters).run(traversal);
-}
 
 }  // namespace thicket

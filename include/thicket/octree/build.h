@@ -4,6 +4,7 @@
 #include <functional>
 #include <span>
 
+#include "thicket/core/tree_figures.h"
 #include "thicket/octree/node.h"
 
 namespace thicket {
@@ -30,10 +31,7 @@ inline constexpr size_t kOctreeReferenceBudget = 8;
 
 /// Figures of a built octree. sah_cost weighs every cell by its area relative to the root's,
 /// with kSahTraversalCost per inner cell and kSahIntersectionCost per reference in a leaf.
-struct OctreeFigures {
-    size_t nodes = 0, leaves = 0, empty_leaves = 0, max_depth = 0, max_leaf_size = 0, references = 0;
-    double sah_cost = 0.0;
-};
+using OctreeFigures = TreeFigures;
 OctreeFigures octree_figures(const OctreeData& tree);
 
 }  // namespace thicket

@@ -30,23 +30,18 @@ public:
 
     template <class C>
     Hit closest(const Ray& ray, C& counters) const {
-        return octree_closest_hit(data_, prims_, ray, traversal_, counters);
+        return closest_hit<octree_detail::Query>(data_, prims_, ray, counters, traversal_);
     }
     template <class C>
     bool any(const Ray& ray, C& counters) const {
-        return octree_any_hit(data_, prims_, ray, traversal_, counters);
+        return any_hit<octree_detail::Query>(data_, prims_, ray, counters, traversal_);
     }
 
     AccelStats stats() const override {
-        AccelStats s = this->base_stats();
         const OctreeFigures f = octree_figures(data_);
-        s.primitives = prims_.size();
-        s.nodes = f.nodes;
-        s.leaves = f.leaves;
-        s.max_depth = f.max_depth;
-        s.bytes = data_.nodes.size() * sizeof(OctreeNode) + data_.refs.size() * sizeof(uint32_t);
-        s.primitive_bytes = prims_.bytes();
-        s.sah_cost = f.sah_cost;
+        AccelStats s = this->tree_stats(
+            f, prims_.size(), data_.nodes.size() * sizeof(OctreeNode) + data_.refs.size() * sizeof(uint32_t),
+            prims_.bytes());
         char per_prim[32];
         std::snprintf(per_prim, sizeof per_prim, "%.2f", prims_.size() ? double(f.references) / prims_.size() : 0.0);
         s.extra.emplace_back("empty leaves", std::to_string(f.empty_leaves));

@@ -20,8 +20,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "thicket/bih/slab_interval.h"
-#include "thicket/accel/mailbox.h"
+#include "thicket/core/hit_query.h"
+#include "thicket/core/mailbox.h"
+#include "thicket/core/slab_interval.h"
 #include "thicket/octree/node.h"
 #include "thicket/prims/primitive_set.h"
 
@@ -198,22 +199,5 @@ struct Query {
 };
 
 }  // namespace octree_detail
-
-/// Closest hit within [ray.tmin, ray.tmax] (prim == kNoPrim on a miss).
-template <PrimitiveSet Prims, class C>
-Hit octree_closest_hit(const OctreeData& tree, const Prims& prims, const Ray& ray, OctreeTraversal traversal,
-                       C& counters) {
-    Hit hit = miss_for(ray);
-    octree_detail::Query<false, Prims, C>(tree, prims, ray, hit, counters).run(traversal);
-    return hit;
-}
-
-/// Whether anything is hit within [ray.tmin, ray.tmax]; stops at the first hit.
-template <PrimitiveSet Prims, class C>
-bool octree_any_hit(const OctreeData& tree, const Prims& prims, const Ray& ray, OctreeTraversal traversal,
-                    C& counters) {
-    Hit unused = miss_for(ray);
-    return octree_detail::Query<true, Prims, C>(tree, prims, ray, unused, counters).run(traversal);
-}
 
 }  // namespace thicket

@@ -1,7 +1,6 @@
 #pragma once
 /// The control mesh ("cage") of a subdivision surface: polygons of any size, kept as polygons.
 #include <cstdint>
-#include <string>
 #include <vector>
 
 #include "thicket/core/vec3.h"
@@ -24,10 +23,5 @@ void validate_control_mesh(const ControlMesh& cage);
 
 /// The cube [-1, 1]^3 as 6 outward quads (8 valence-3 vertices: all extraordinary).
 ControlMesh cube_control_mesh();
-
-/// Reads the polygons of a Wavefront OBJ or a PLY file (by extension) as a control mesh (no
-/// triangulation; normals, texture coordinates and materials are ignored) and validates it.
-/// Vertices no face uses are dropped. Throws Error("<path>: ...").
-ControlMesh load_control_mesh(const std::string& path);
 
 }  // namespace thicket

@@ -21,10 +21,12 @@
 #include "thicket/core/ray.h"
 #include "thicket/prims/interval.h"
 #include "thicket/prims/shape.h"
+#include "thicket/prims/shape_util.h"
 
 namespace thicket {
 
-using Vec3d = std::array<double, 3>;
+/// The kernels' one double 3-vector (shape_util.h), under the name the implicit code uses.
+using Vec3d = DVec3;
 
 /// An axis-aligned box in an implicit surface's own (object) coordinates.
 struct Box3d {

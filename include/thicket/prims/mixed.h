@@ -1,7 +1,8 @@
 #pragma once
-/// The mixed primitive set: a scene's triangles and shapes behind one PrimitiveSet, so every
-/// structure holds spheres, tori, ... next to triangles. Chosen by with_primitives() only for
-/// scenes that have shapes; triangle-only scenes keep the Triangles fast path.
+/// The mixed primitive set: triangles and shapes behind one PrimitiveSet, so every structure
+/// holds spheres, tori, ... next to triangles. Built from plain geometry (mesh, shapes, id runs),
+/// not from a Scene. Chosen by with_primitives() only for scenes that have shapes; triangle-only
+/// scenes keep the Triangles fast path.
 ///
 /// Layout: triangles as in Triangles<Test> (36 bytes each), shapes in one array per kernel type
 /// (no variant padding: a sphere stays 16 bytes next to bigger kernels), and one 32-bit reference
@@ -9,6 +10,7 @@
 /// plus one), the index within its array below.
 #include <array>
 #include <cstdint>
+#include <string>
 #include <tuple>
 #include <utility>
 #include <variant>
@@ -16,8 +18,10 @@
 
 #include "thicket/core/error.h"
 #include "thicket/core/ray_box.h"
+#include "thicket/geometry/mesh.h"
+#include "thicket/geometry/prim_runs.h"
+#include "thicket/prims/shapes.h"
 #include "thicket/prims/triangles.h"
-#include "thicket/scene/scene.h"
 
 namespace thicket {
 
@@ -39,23 +43,28 @@ public:
     static_assert(kKinds + 1 < 16, "the kind must fit the top 4 bits of a reference");
 
     MixedPrimitives() = default;
-    explicit MixedPrimitives(const Scene& scene) : tris_(scene.mesh) {
-        const size_t n = scene.primitive_count();
-        if (scene.mesh.triangle_count() > kIndexMask || scene.shapes.size() > kIndexMask)
-            throw Error(scene.name + ": a scene with shapes holds at most " + std::to_string(kIndexMask) +
+    /// The triangles of `mesh` and the `shapes`, with ids ordered by `runs` (see locate_prim).
+    /// Throws Error starting with `name` when either count does not fit a reference.
+    MixedPrimitives(const TriangleMesh& mesh, const std::vector<Shape>& shapes, const std::vector<PrimRun>& runs,
+                    const std::string& name)
+        : tris_(mesh) {
+        const size_t n = mesh.triangle_count() + shapes.size();
+        if (mesh.triangle_count() > kIndexMask || shapes.size() > kIndexMask)
+            throw Error(name + ": a scene with shapes holds at most " + std::to_string(kIndexMask) +
                         " triangles and as many shapes");
         refs_.resize(n);
-        std::vector<uint32_t> shape_refs(scene.shapes.size());
-        for (size_t s = 0; s < scene.shapes.size(); ++s)
+        std::vector<uint32_t> shape_refs(shapes.size());
+        for (size_t s = 0; s < shapes.size(); ++s)
             std::visit(
                 [&](const auto& k) {
                     auto& arr = std::get<std::vector<std::decay_t<decltype(k)>>>(shapes_);
-                    shape_refs[s] = (uint32_t(scene.shapes[s].index() + 1) << kKindShift) | uint32_t(arr.size());
+                    shape_refs[s] = (uint32_t(shapes[s].index() + 1) << kKindShift) | uint32_t(arr.size());
                     arr.push_back(k);
                 },
-                scene.shapes[s]);
+                shapes[s]);
+        const auto triangles = uint32_t(mesh.triangle_count());
         for (uint32_t i = 0; i < n; ++i) {
-            const PrimRef r = scene.locate(i);
+            const PrimRef r = locate_prim(runs, triangles, i);
             refs_[i] = r.shape ? shape_refs[r.index] : r.index;
         }
     }

@@ -19,6 +19,7 @@ struct DVec3 {
     constexpr explicit DVec3(Vec3 v) : x(v.x), y(v.y), z(v.z) {}
 
     constexpr double operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
+    constexpr double& operator[](int i) { return i == 0 ? x : (i == 1 ? y : z); }
     constexpr DVec3 operator+(DVec3 b) const { return {x + b.x, y + b.y, z + b.z}; }
     constexpr DVec3 operator-(DVec3 b) const { return {x - b.x, y - b.y, z - b.z}; }
     constexpr DVec3 operator*(double s) const { return {x * s, y * s, z * s}; }

@@ -12,7 +12,7 @@
 #include "thicket/core/ray.h"
 #include "thicket/prims/control_mesh.h"
 #include "thicket/prims/shape.h"
-#include "thicket/scene/mesh.h"
+#include "thicket/geometry/mesh.h"
 
 namespace thicket {
 

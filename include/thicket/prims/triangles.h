@@ -9,7 +9,7 @@
 #include "thicket/core/ray_box.h"
 #include "thicket/core/triangle.h"
 #include "thicket/prims/clip.h"
-#include "thicket/scene/mesh.h"
+#include "thicket/geometry/mesh.h"
 
 namespace thicket {
 

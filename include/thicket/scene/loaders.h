@@ -3,7 +3,8 @@
 /// (or scene) or throws thicket::Error("<path>: <what is wrong>").
 #include <string>
 
-#include "thicket/scene/mesh.h"
+#include "thicket/geometry/mesh.h"
+#include "thicket/prims/control_mesh.h"
 #include "thicket/scene/scene.h"
 
 namespace thicket {
@@ -20,5 +21,10 @@ TriangleMesh builtin_cornell_box();
 TriangleMesh load_mesh(const std::string& path);
 /// A JSON scene of meshes and shapes (docs/shapes.md); errors name the shape and field.
 Scene load_json_scene(const std::string& path);
+
+/// Reads the polygons of a Wavefront OBJ or a PLY file (by extension) as a subdivision cage (no
+/// triangulation; normals, texture coordinates and materials are ignored) and validates it.
+/// Vertices no face uses are dropped. Throws Error("<path>: ...").
+ControlMesh load_control_mesh(const std::string& path);
 
 }  // namespace thicket

@@ -9,25 +9,11 @@
 #include <vector>
 
 #include "thicket/core/ray.h"
+#include "thicket/geometry/mesh.h"
+#include "thicket/geometry/prim_runs.h"
 #include "thicket/prims/shapes.h"
-#include "thicket/scene/mesh.h"
 
 namespace thicket {
-
-/// A maximal range of consecutive ids of one kind: ids [first, first + count) are triangles
-/// (or shapes) [index, index + count).
-struct PrimRun {
-    uint32_t first = 0;
-    uint32_t count = 0;
-    bool shapes = false;
-    uint32_t index = 0;
-};
-
-/// Where a primitive id points: triangle `index` of the mesh, or shape `index` of the shapes.
-struct PrimRef {
-    bool shape = false;
-    uint32_t index = 0;
-};
 
 struct Scene {
     std::string name;    ///< file path or built-in name, for messages

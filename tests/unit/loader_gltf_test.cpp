@@ -1,0 +1,202 @@
+// glTF loader tests: embedded and external buffers, GLB, node transforms, corrupt files.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "loader_test_util.h"
+#include "thicket/core/error.h"
+#include "thicket/scene/loaders.h"
+#include "thicket/scene/scene.h"
+
+namespace thicket {
+namespace {
+
+using namespace loader_test;
+
+// ---- glTF --------------------------------------------------------------------------------------
+
+std::string base64(const std::string& bytes) {
+    static const char* alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    for (size_t i = 0; i < bytes.size(); i += 3) {
+        uint32_t v = uint32_t(uint8_t(bytes[i])) << 16;
+        if (i + 1 < bytes.size()) v |= uint32_t(uint8_t(bytes[i + 1])) << 8;
+        if (i + 2 < bytes.size()) v |= uint8_t(bytes[i + 2]);
+        out += alphabet[(v >> 18) & 63];
+        out += alphabet[(v >> 12) & 63];
+        out += i + 1 < bytes.size() ? alphabet[(v >> 6) & 63] : '=';
+        out += i + 2 < bytes.size() ? alphabet[v & 63] : '=';
+    }
+    return out;
+}
+
+/// One triangle (indexed, ushort) plus 4 vertices used by a non-indexed strip and fan.
+std::string gltf_buffer() {
+    std::string b;
+    auto f = [&](float v) { b.append(reinterpret_cast<const char*>(&v), 4); };
+    for (float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) f(v);  // 0..36: triangle
+    for (uint16_t i : {uint16_t(0), uint16_t(1), uint16_t(2), uint16_t(0)})
+        b.append(reinterpret_cast<const char*>(&i), 2);
+    // 44..92: quad corners
+    for (float v : {0.f, 0.f, 5.f, 1.f, 0.f, 5.f, 0.f, 1.f, 5.f, 1.f, 1.f, 5.f}) f(v);
+    return b;
+}
+
+std::string gltf_json(const std::string& buffer_uri, size_t length) {
+    const std::string uri = buffer_uri.empty() ? "" : "\"uri\": \"" + buffer_uri + "\", ";
+    return R"({"asset": {"version": "2.0"}, "scene": 0,
+  "scenes": [{"nodes": [0, 2]}],
+  "nodes": [{"translation": [10, 0, 0], "children": [1]},
+            {"scale": [2, 2, 2], "mesh": 0},
+            {"matrix": [0,1,0,0, -1,0,0,0, 0,0,1,0, 0,0,0,1], "mesh": 1}],
+  "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]},
+             {"primitives": [{"attributes": {"POSITION": 2}, "mode": 5},
+                             {"attributes": {"POSITION": 2}, "mode": 6, "material": 1},
+                             {"attributes": {"POSITION": 2}, "mode": 1}]}],
+  "materials": [{"name": "orange", "pbrMetallicRoughness": {"baseColorFactor": [1, 0.5, 0.25, 1]},
+                 "emissiveFactor": [2, 3, 4]},
+                {"emissiveFactor": [1, 1, 1],
+                 "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 5}}}],
+  "buffers": [{)" +
+           uri + R"("byteLength": )" + std::to_string(length) + R"(}],
+  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36},
+                  {"buffer": 0, "byteOffset": 36, "byteLength": 6},
+                  {"buffer": 0, "byteOffset": 44, "byteLength": 48, "byteStride": 12}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"},
+                {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"},
+                {"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC3"}]})";
+}
+
+std::string embedded_gltf() {
+    const std::string b = gltf_buffer();
+    return gltf_json("data:application/octet-stream;base64," + base64(b), b.size());
+}
+
+std::string make_glb(std::string json, std::string bin) {
+    while (json.size() % 4) json += ' ';
+    while (bin.size() % 4) bin += '\0';
+    std::string out;
+    auto u32 = [&](uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); };
+    u32(0x46546C67u);
+    u32(2);
+    u32(uint32_t(12 + 8 + json.size() + 8 + bin.size()));
+    u32(uint32_t(json.size()));
+    u32(0x4E4F534Au);
+    out += json;
+    u32(uint32_t(bin.size()));
+    u32(0x004E4942u);
+    out += bin;
+    return out;
+}
+
+void expect_gltf_scene(const TriangleMesh& m) {
+    ASSERT_EQ(m.triangle_count(), 5u);
+    // Node 0 translates by (10,0,0); its child scales by 2: p -> 10 + 2p.
+    EXPECT_EQ(m.vertex(0, 0), Vec3(10, 0, 0));
+    EXPECT_EQ(m.vertex(0, 1), Vec3(12, 0, 0));
+    EXPECT_EQ(m.vertex(0, 2), Vec3(10, 2, 0));
+    // Node 2's matrix rotates 90 degrees about z: (x,y,z) -> (-y,x,z). Strip: (0,1,2), (1,3,2).
+    EXPECT_EQ(m.vertex(1, 0), Vec3(0, 0, 5));
+    EXPECT_EQ(m.vertex(1, 1), Vec3(0, 1, 5));
+    EXPECT_EQ(m.vertex(2, 0), Vec3(0, 1, 5));
+    EXPECT_EQ(m.vertex(2, 1), Vec3(-1, 1, 5));
+    EXPECT_EQ(m.vertex(2, 2), Vec3(-1, 0, 5));
+    // Fan: (0,1,2), (0,2,3).
+    EXPECT_EQ(m.vertex(4, 0), Vec3(0, 0, 5));
+    EXPECT_EQ(m.vertex(4, 2), Vec3(-1, 1, 5));
+    ASSERT_EQ(m.materials.size(), 3u);
+    EXPECT_EQ(m.materials[0].name, "orange");
+    EXPECT_EQ(m.materials[0].diffuse, Vec3(1, 0.5f, 0.25f));
+    EXPECT_EQ(m.materials[0].emission, Vec3(2, 3, 4));
+    EXPECT_EQ(m.materials[1].emission, Vec3(5, 5, 5));
+    EXPECT_EQ(m.materials[2].name, "default");
+    const std::vector<uint32_t> ids = {0, 2, 2, 1, 1};
+    EXPECT_EQ(m.material_ids, ids);
+}
+
+TEST(LoaderGltf, EmbeddedBufferWithNodeTransforms) {
+    TempDir tmp;
+    expect_gltf_scene(load_gltf(tmp.file("scene.gltf", embedded_gltf())));
+}
+
+TEST(LoaderGltf, ExternalBufferAndGlb) {
+    TempDir tmp;
+    tmp.file("scene.bin", gltf_buffer());
+    expect_gltf_scene(load_gltf(tmp.file("external.gltf", gltf_json("scene.bin", gltf_buffer().size()))));
+    const std::string glb = make_glb(gltf_json("", gltf_buffer().size()), gltf_buffer());
+    expect_gltf_scene(load_gltf(tmp.file("scene.glb", glb)));
+    expect_gltf_scene(load_scene(tmp.file("UPPER.GLB", glb)).mesh);
+    for (size_t len = 0; len < glb.size(); len += 3) {  // truncated containers fail cleanly
+        const std::string path = tmp.file("cut" + std::to_string(len) + ".glb", glb.substr(0, len));
+        EXPECT_THROW(load_gltf(path), Error) << len;
+    }
+}
+
+TEST(LoaderGltf, TrsRotationIsApplied) {
+    TempDir tmp;
+    std::string json = embedded_gltf();
+    const std::string from = R"({"scale": [2, 2, 2], "mesh": 0})";
+    // 90 degrees about z, then scale (2,1,1) applied first: (1,0,0) -> (2,0,0) -> (0,2,0).
+    json.replace(json.find(from), from.size(),
+                 R"({"scale": [2, 1, 1], "rotation": [0, 0, 0.70710678, 0.70710678], "mesh": 0})");
+    const TriangleMesh m = load_gltf(tmp.file("trs.gltf", json));
+    const Vec3 p = m.vertex(0, 1);
+    EXPECT_NEAR(p.x, 10.0f, 1e-5f);
+    EXPECT_NEAR(p.y, 2.0f, 1e-5f);
+    EXPECT_NEAR(p.z, 0.0f, 1e-5f);
+}
+
+TEST(LoaderGltf, CorruptFilesAreErrors) {
+    TempDir tmp;
+    const std::string good = embedded_gltf();
+    auto variant = [&](const std::string& from, const std::string& to) {
+        std::string s = good;
+        const size_t at = s.find(from);
+        EXPECT_NE(at, std::string::npos) << from;
+        if (at != std::string::npos) s.replace(at, from.size(), to);
+        return s;
+    };
+    struct Case { std::string name, text; std::vector<std::string> fragments; };
+    const std::vector<Case> cases = {
+        {"json.gltf", good.substr(0, good.size() / 2), {}},
+        {"count.gltf",
+         variant(R"("count": 3, "type": "VEC3")", R"("count": 300, "type": "VEC3")"),
+         {"accessor 0"}},
+        {"offset.gltf",
+         variant(R"("byteOffset": 36, "byteLength": 6)", R"("byteOffset": 36, "byteLength": 600)"),
+         {}},
+        {"stride.gltf", variant(R"("byteStride": 12)", R"("byteStride": 8)"), {"byteStride"}},
+        {"index.gltf",
+         variant(R"("bufferView": 1, "componentType": 5123, "count": 3)",
+                 R"("bufferView": 1, "componentType": 5123, "count": 3, "byteOffset": 2)"),
+         {}},
+        {"cycle.gltf",
+         variant(R"("scale": [2, 2, 2], "mesh": 0)", R"("scale": [2, 2, 2], "mesh": 0, "children": [0])"),
+         {"node 0"}},
+        {"mesh.gltf", variant(R"("mesh": 1})", R"("mesh": 7})"), {"mesh 7"}},
+        {"material.gltf", variant(R"("material": 0)", R"("material": 9)"), {"material 9"}},
+        {"ctype.gltf",
+         variant(R"("componentType": 5126, "count": 3)", R"("componentType": 5121, "count": 3)"),
+         {"POSITION"}},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.name);
+        const std::string path = tmp.file(c.name, c.text);
+        expect_error([&] { load_gltf(path); }, path, c.fragments);
+    }
+    // An index pointing past the vertices.
+    std::string b = gltf_buffer();
+    const uint16_t bad = 7;
+    std::memcpy(&b[38], &bad, 2);
+    const std::string range =
+        tmp.file("range.gltf", gltf_json("data:application/octet-stream;base64," + base64(b), b.size()));
+    expect_error([&] { load_gltf(range); }, range, {"index 7", "out of range"});
+}
+
+}  // namespace
+}  // namespace thicket

@@ -1,0 +1,113 @@
+// Every structure's choice options come from one typed table: an unknown value is refused both
+// when a spec string is parsed and when a hand-made AccelSpec reaches the builder, and both
+// errors list the allowed values. One test per registered structure (a new one joins itself).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "thicket/accel/registry.h"
+#include "thicket/core/error.h"
+
+namespace thicket {
+namespace {
+
+/// The message of the Error `f` throws, or "" when it throws none.
+template <class F>
+std::string error_of(F&& f) {
+    try {
+        f();
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+/// One triangle: every structure builds over it in no time.
+Scene one_triangle() {
+    Scene s;
+    s.name = "one-triangle";
+    s.mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    s.mesh.indices = {0, 1, 2};
+    return s;
+}
+
+class OptionTable : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(OptionTable, UnknownChoiceIsAnErrorListingTheAllowedOnes) {
+    const AccelInfo& info = *find_accel(GetParam());
+    const Scene scene = one_triangle();
+    size_t choice_options = 0;
+    for (const OptionInfo& o : info.options) {
+        if (o.choices.empty()) continue;
+        ++choice_options;
+        SCOPED_TRACE(info.name + ":" + o.key);
+        std::string allowed;
+        for (const std::string& c : o.choices) allowed += (allowed.empty() ? "" : ", ") + c;
+        const std::string expected = info.name + ": " + o.key + "=bogus is not allowed; choose one of " + allowed;
+
+        const std::string parsed = error_of([&] { parse_accel_spec(info.name + ":" + o.key + "=bogus"); });
+        EXPECT_NE(parsed.find(expected), std::string::npos) << parsed;
+
+        // Past the parser (a spec built by hand): the builder's table refuses it too, instead of
+        // taking some default.
+        AccelSpec spec = parse_accel_spec(info.name);
+        spec.options[o.key] = "bogus";
+        const std::string built = error_of([&] { build_accel(spec, scene); });
+        EXPECT_NE(built.find(expected), std::string::npos) << built;
+
+        // Every listed value is one the builder accepts.
+        for (const std::string& c : o.choices) {
+            spec.options[o.key] = c;
+            EXPECT_EQ(error_of([&] { build_accel(spec, scene); }), "") << c;
+        }
+    }
+    EXPECT_GE(choice_options, 1u) << "every structure takes at least isect";
+}
+
+TEST_P(OptionTable, DefaultIsOneOfTheChoices) {
+    for (const OptionInfo& o : find_accel(GetParam())->options) {
+        if (o.choices.empty()) continue;
+        EXPECT_NE(std::find(o.choices.begin(), o.choices.end(), o.default_value), o.choices.end())
+            << GetParam() << ":" << o.key << " default '" << o.default_value << "'";
+    }
+}
+
+std::vector<std::string> registered_names() {
+    std::vector<std::string> names;
+    for (const AccelInfo& info : accel_registry()) names.push_back(info.name);
+    return names;
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryStructure, OptionTable, ::testing::ValuesIn(registered_names()),
+                         [](const ::testing::TestParamInfo<std::string>& p) { return p.param; });
+
+TEST(OptionTable, SpecParsedOnceBuildsTheSameStructure) {
+    const Scene scene = one_triangle();
+    const AccelSpec spec = parse_accel_spec("bvh:builder=sweep-sah,traversal=stack");
+    EXPECT_EQ(build_accel(spec, scene)->spec(), build_accel("bvh:builder=sweep-sah,traversal=stack", scene)->spec());
+    AccelSpec unknown;
+    unknown.name = "octopus";
+    EXPECT_NE(error_of([&] { build_accel(unknown, scene); }).find("unknown acceleration structure 'octopus'"),
+              std::string::npos);
+}
+
+TEST(OptionTable, ChoiceOptionTakesItsListAndDefaultFromTheTable) {
+    enum class Fruit { Apple, Pear, Plum };
+    constexpr Choice<Fruit> kFruits[] = {{"apple", Fruit::Apple}, {"pear", Fruit::Pear}, {"plum", Fruit::Plum}};
+    const OptionInfo o = choice_option("fruit", "which fruit", Fruit::Pear, kFruits);
+    EXPECT_EQ(o.key, "fruit");
+    EXPECT_EQ(o.default_value, "pear");
+    EXPECT_EQ(o.choices, (std::vector<std::string>{"apple", "pear", "plum"}));
+    AccelSpec spec;
+    spec.name = "basket";
+    spec.options["fruit"] = "plum";
+    EXPECT_EQ(spec.choice("fruit", kFruits), Fruit::Plum);
+    spec.options["fruit"] = "fig";
+    EXPECT_EQ(error_of([&] { spec.choice("fruit", kFruits); }),
+              "basket: fruit=fig is not allowed; choose one of apple, pear, plum");
+}
+
+}  // namespace
+}  // namespace thicket
