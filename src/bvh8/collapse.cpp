@@ -1,0 +1,135 @@
+// Collapse of a binary BVH into 8-wide nodes, and the tree's figures.
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "thicket/accel/accel.h"
+#include "thicket/bvh8/build.h"
+#include "thicket/core/error.h"
+
+namespace thicket::bvh8 {
+
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+class Collapser {
+public:
+    Collapser(const BvhData& binary, const LeafEmitter& emit, Tree& tree) : bin_(binary), emit_(emit), tree_(tree) {}
+
+    /// Emits the 8-wide node whose children are binary node `b`'s (b itself if it is a leaf,
+    /// which happens only at the root); returns its index.
+    uint32_t emit_node(uint32_t b, size_t depth) {
+        tree_.max_depth = std::max(tree_.max_depth, depth);
+        const uint32_t index = uint32_t(tree_.nodes.size());
+        tree_.nodes.emplace_back();
+        std::vector<uint32_t> kids;
+        const BvhNode& bn = bin_.nodes[b];
+        if (bn.is_leaf()) {
+            kids.push_back(b);
+        } else {
+            kids = {bn.leftFirst, bn.leftFirst + 1};
+        }
+        while (kids.size() < size_t(kWidth)) {
+            int widest = -1;
+            float widest_area = -1.0f;
+            for (size_t i = 0; i < kids.size(); ++i) {
+                const BvhNode& k = bin_.nodes[kids[i]];
+                if (!k.is_leaf() && k.bounds().area() > widest_area) {
+                    widest = int(i);
+                    widest_area = k.bounds().area();
+                }
+            }
+            if (widest < 0) break;
+            const uint32_t open = kids[size_t(widest)];
+            kids[size_t(widest)] = bin_.nodes[open].leftFirst;
+            kids.push_back(bin_.nodes[open].leftFirst + 1);
+        }
+
+        Node node;
+        for (auto& axis : node.box) {
+            std::fill(std::begin(axis[0]), std::end(axis[0]), kInf);
+            std::fill(std::begin(axis[1]), std::end(axis[1]), -kInf);
+        }
+        std::fill(std::begin(node.child), std::end(node.child), 0u);
+        std::fill(std::begin(node.leaf_size), std::end(node.leaf_size), uint8_t(0));
+        node.valid = 0;
+        const double root_area = root_area_;
+        Aabb node_box;
+        for (size_t lane = 0; lane < kids.size(); ++lane) {
+            const BvhNode& k = bin_.nodes[kids[lane]];
+            node_box.grow(k.bounds());
+            if (k.is_leaf()) {
+                const LeafPlacement p = emit_(k.leftFirst, k.count);
+                if (p.size == 0) continue;
+                if (p.size > 255)
+                    throw Error("bvh8: a leaf of " + std::to_string(k.count) + " primitives needs " +
+                                std::to_string(p.size) + " slots, more than the 255 a lane can hold");
+                node.child[lane] = p.first;
+                node.leaf_size[lane] = uint8_t(p.size);
+                ++tree_.leaves;
+                tree_.max_depth = std::max(tree_.max_depth, depth + 1);
+                const double area_ratio = root_area > 0 ? double(k.bounds().area()) / root_area : 0.0;
+                tree_.sah_cost += kSahIntersectionCost * area_ratio * k.count;
+                tree_.embree_sah_cost += area_ratio * double((k.count + 3) / 4);
+            }
+            for (int a = 0; a < 3; ++a) {
+                node.box[a][0][lane] = k.aabbMin[a];
+                node.box[a][1][lane] = k.aabbMax[a];
+            }
+            node.valid |= 1u << lane;
+        }
+        const double area_ratio = root_area > 0 ? double(node_box.area()) / root_area : 0.0;
+        tree_.sah_cost += kSahTraversalCost * area_ratio;
+        tree_.embree_sah_cost += area_ratio;
+        // Children after the parent: depth-first order, and the vector may reallocate meanwhile.
+        for (size_t lane = 0; lane < kids.size(); ++lane)
+            if ((node.valid >> lane & 1) && !bin_.nodes[kids[lane]].is_leaf())
+                node.child[lane] = emit_node(kids[lane], depth + 1);
+        tree_.nodes[index] = node;
+        return index;
+    }
+
+    void run() {
+        if (bin_.nodes_used == 0) return;
+        tree_.bounds = bin_.nodes[0].bounds();
+        root_area_ = tree_.bounds.area();
+        emit_node(0, 1);
+    }
+
+private:
+    const BvhData& bin_;
+    const LeafEmitter& emit_;
+    Tree& tree_;
+    double root_area_ = 0.0;
+};
+
+}  // namespace
+
+Tree collapse(const BvhData& binary, const LeafEmitter& emit) {
+    Tree tree;
+    Collapser(binary, emit, tree).run();
+    return tree;
+}
+
+void validate_tree(const Tree& tree, size_t leaf_slots) {
+    for (size_t n = 0; n < tree.nodes.size(); ++n) {
+        const Node& node = tree.nodes[n];
+        for (int lane = 0; lane < kWidth; ++lane) {
+            const std::string where = "bvh8: node " + std::to_string(n) + " lane " + std::to_string(lane);
+            if (!(node.valid >> lane & 1)) {
+                for (int a = 0; a < 3; ++a)
+                    if (!(node.box[a][0][lane] > node.box[a][1][lane])) throw Error(where + ": empty lane not inverted");
+                continue;
+            }
+            if (node.leaf_size[lane] == 0) {
+                if (node.child[lane] <= n || node.child[lane] >= tree.nodes.size())
+                    throw Error(where + ": child node " + std::to_string(node.child[lane]) + " out of order or range");
+            } else if (size_t(node.child[lane]) + node.leaf_size[lane] > leaf_slots) {
+                throw Error(where + ": leaf beyond the " + std::to_string(leaf_slots) + " slots stored");
+            }
+        }
+    }
+}
+
+}  // namespace thicket::bvh8
