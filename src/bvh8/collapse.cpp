@@ -1,7 +1,9 @@
 // Collapse of a binary BVH into 8-wide nodes, and the tree's figures.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
+#include <vector>
 
 #include "thicket/accel/accel.h"
 #include "thicket/bvh8/build.h"
@@ -15,7 +17,8 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 
 class Collapser {
 public:
-    Collapser(const BvhData& binary, const LeafEmitter& emit, Tree& tree) : bin_(binary), emit_(emit), tree_(tree) {}
+    Collapser(const BvhData& binary, const LeafEmitter& emit, Tree& tree, uint32_t merge_below)
+        : bin_(binary), emit_(emit), tree_(tree), merge_below_(merge_below) {}
 
     /// Emits the 8-wide node whose children are binary node `b`'s (b itself if it is a leaf,
     /// which happens only at the root); returns its index.
@@ -25,7 +28,7 @@ public:
         tree_.nodes.emplace_back();
         std::vector<uint32_t> kids;
         const BvhNode& bn = bin_.nodes[b];
-        if (bn.is_leaf()) {
+        if (is_leaf(b)) {
             kids.push_back(b);
         } else {
             kids = {bn.leftFirst, bn.leftFirst + 1};
@@ -35,7 +38,7 @@ public:
             float widest_area = -1.0f;
             for (size_t i = 0; i < kids.size(); ++i) {
                 const BvhNode& k = bin_.nodes[kids[i]];
-                if (!k.is_leaf() && k.bounds().area() > widest_area) {
+                if (!is_leaf(kids[i]) && k.bounds().area() > widest_area) {
                     widest = int(i);
                     widest_area = k.bounds().area();
                 }
@@ -59,19 +62,20 @@ public:
         for (size_t lane = 0; lane < kids.size(); ++lane) {
             const BvhNode& k = bin_.nodes[kids[lane]];
             node_box.grow(k.bounds());
-            if (k.is_leaf()) {
-                const LeafPlacement p = emit_(k.leftFirst, k.count);
+            if (is_leaf(kids[lane])) {
+                const uint32_t count = count_[kids[lane]];
+                const LeafPlacement p = emit_(first_[kids[lane]], count);
                 if (p.size == 0) continue;
                 if (p.size > 255)
-                    throw Error("bvh8: a leaf of " + std::to_string(k.count) + " primitives needs " +
+                    throw Error("bvh8: a leaf of " + std::to_string(count) + " primitives needs " +
                                 std::to_string(p.size) + " slots, more than the 255 a lane can hold");
                 node.child[lane] = p.first;
                 node.leaf_size[lane] = uint8_t(p.size);
                 ++tree_.leaves;
                 tree_.max_depth = std::max(tree_.max_depth, depth + 1);
                 const double area_ratio = root_area > 0 ? double(k.bounds().area()) / root_area : 0.0;
-                tree_.sah_cost += kSahIntersectionCost * area_ratio * k.count;
-                tree_.embree_sah_cost += area_ratio * double((k.count + 3) / 4);
+                tree_.sah_cost += kSahIntersectionCost * area_ratio * count;
+                tree_.embree_sah_cost += area_ratio * double((count + 3) / 4);
             }
             for (int a = 0; a < 3; ++a) {
                 node.box[a][0][lane] = k.aabbMin[a];
@@ -84,7 +88,7 @@ public:
         tree_.embree_sah_cost += area_ratio;
         // Children after the parent: depth-first order, and the vector may reallocate meanwhile.
         for (size_t lane = 0; lane < kids.size(); ++lane)
-            if ((node.valid >> lane & 1) && !bin_.nodes[kids[lane]].is_leaf())
+            if ((node.valid >> lane & 1) && !is_leaf(kids[lane]))
                 node.child[lane] = emit_node(kids[lane], depth + 1);
         tree_.nodes[index] = node;
         return index;
@@ -92,23 +96,47 @@ public:
 
     void run() {
         if (bin_.nodes_used == 0) return;
+        count_.assign(bin_.nodes.size(), 0);
+        first_.assign(bin_.nodes.size(), 0);
+        count_subtree(0);
         tree_.bounds = bin_.nodes[0].bounds();
         root_area_ = tree_.bounds.area();
         emit_node(0, 1);
     }
 
 private:
+    /// Primitives under binary node n: a subtree's are contiguous in prim_indices (the builders
+    /// partition in place), so they are one range.
+    void count_subtree(uint32_t n) {
+        const BvhNode& node = bin_.nodes[n];
+        if (node.is_leaf()) {
+            count_[n] = node.count;
+            first_[n] = node.leftFirst;
+            return;
+        }
+        count_subtree(node.leftFirst);
+        count_subtree(node.leftFirst + 1);
+        count_[n] = count_[node.leftFirst] + count_[node.leftFirst + 1];
+        first_[n] = std::min(first_[node.leftFirst], first_[node.leftFirst + 1]);
+    }
+
+    /// A binary leaf, or a subtree small enough to become one: its primitives fill one
+    /// 4-triangle block anyway, and one block test beats a node visit plus partial blocks.
+    bool is_leaf(uint32_t n) const { return bin_.nodes[n].is_leaf() || count_[n] <= merge_below_; }
+
     const BvhData& bin_;
     const LeafEmitter& emit_;
     Tree& tree_;
+    uint32_t merge_below_;
+    std::vector<uint32_t> count_, first_;
     double root_area_ = 0.0;
 };
 
 }  // namespace
 
-Tree collapse(const BvhData& binary, const LeafEmitter& emit) {
+Tree collapse(const BvhData& binary, const LeafEmitter& emit, uint32_t merge_below) {
     Tree tree;
-    Collapser(binary, emit, tree).run();
+    Collapser(binary, emit, tree, merge_below).run();
     return tree;
 }
 

@@ -66,7 +66,9 @@ TEST(Bvh8Kernels, NodeTestIsRayBoxEntryBitwiseOnEveryLane) {
         const RayBoxQuery q(ray);
         for (Isa isa : bvh8::cpu_isas()) {
             float dist[8];
-            const uint32_t mask = bvh8::kernels_for(isa).node_test(node, ray, ray.tmax, dist);
+            uint32_t any = 0;
+            const uint32_t mask = bvh8::kernels_for(isa).node_test(&node, 1, ray, ray.tmax, dist, &any);
+            ASSERT_EQ(any, mask);
             for (int lane = 0; lane < 8; ++lane) {
                 const bool valid = (node.valid >> lane) & 1;
                 const float want =
@@ -97,7 +99,9 @@ TEST(Bvh8Kernels, NodeTestNeverEntersAnEmptyLaneEvenForNanRays) {
                            Ray{{0, 0, 0}, 0.0f, {kInfinity, 1, 0}, kInfinity}})
         for (Isa isa : bvh8::cpu_isas()) {
             float dist[8];
-            EXPECT_EQ(bvh8::kernels_for(isa).node_test(node, ray, ray.tmax, dist) >> 7, 0u) << bvh8::isa_name(isa);
+            uint32_t any = 0;
+            EXPECT_EQ(bvh8::kernels_for(isa).node_test(&node, 1, ray, ray.tmax, dist, &any) >> 7, 0u)
+                << bvh8::isa_name(isa);
         }
 }
 

@@ -30,8 +30,9 @@ struct Tree {
 
 /// Collapses `binary` greedily: a node's children start as its two binary children, and the
 /// interior child of largest surface area is replaced by its own two until there are 8 or
-/// only leaves. Every binary leaf becomes one lane, stored by `emit`.
-Tree collapse(const BvhData& binary, const LeafEmitter& emit);
+/// only leaves. Every binary leaf, and every subtree of at most `merge_below` primitives,
+/// becomes one lane, stored by `emit`.
+Tree collapse(const BvhData& binary, const LeafEmitter& emit, uint32_t merge_below);
 
 /// Checks what the kernels rely on: child indices in range and after their parent (no cycle),
 /// leaves within `leaf_slots`, empty lanes inverted. Throws Error naming the first violation.

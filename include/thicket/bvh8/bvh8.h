@@ -20,6 +20,7 @@ namespace thicket {
 struct Bvh8Options {
     BvhBuildOptions binary{BvhBuilder::BinnedSah, 16, 4};  ///< the binary BVH that is collapsed
     bvh8::Isa isa = bvh8::Isa::Scalar;
+    uint32_t merge_below = 4;  ///< subtrees of at most this many primitives become one leaf
 };
 
 namespace bvh8 {
@@ -51,16 +52,17 @@ public:
         }
         const BvhData binary = build_bvh({bounds, centroids}, options.binary);
         if constexpr (bvh8::kIsTriangles<Prims>) {
-            tree_ = bvh8::collapse(binary, [&](uint32_t first, uint32_t count) {
-                return emit_blocks(binary.prim_indices.data() + first, count);
-            });
+            tree_ = bvh8::collapse(
+                binary,
+                [&](uint32_t first, uint32_t count) { return emit_blocks(binary.prim_indices.data() + first, count); },
+                options.merge_below);
             bvh8::validate_tree(tree_, blocks_.size());
             prims_ = Prims();  // the blocks are the structure's only copy of the triangles
         } else {
             ids_ = binary.prim_indices;
-            tree_ = bvh8::collapse(binary, [](uint32_t first, uint32_t count) {
-                return bvh8::LeafPlacement{first, count};
-            });
+            tree_ = bvh8::collapse(
+                binary, [](uint32_t first, uint32_t count) { return bvh8::LeafPlacement{first, count}; },
+                options.merge_below);
             bvh8::validate_tree(tree_, ids_.size());
         }
         ctx_ = {tree_.nodes.data(), blocks_.data(), ids_.data(), &prims_, &closest_leaf, &any_leaf};

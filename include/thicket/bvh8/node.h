@@ -61,9 +61,11 @@ struct TraceContext {
 /// Closest hit / any hit; counters is null for the non-counting entry ([1] of each table row).
 using ClosestFn = Hit (*)(const TraceContext& ctx, const Ray& ray, RayCounters* counters);
 using AnyFn = bool (*)(const TraceContext& ctx, const Ray& ray, RayCounters* counters);
-/// The 8-wide slab test of one node: returns the mask of lanes entered within [ray.tmin, tmax]
-/// and their entry distances (the micro-benchmarks' node kernel).
-using NodeTestFn = uint32_t (*)(const Node& node, const Ray& ray, float tmax, float* dist);
+/// The 8-wide slab test of `count` nodes with one ray (set up once, as in a traversal): returns
+/// the mask of lanes of the last node entered within [ray.tmin, tmax] and writes their entry
+/// distances to dist[0..8); the OR of all masks is in *any_mask (the micro-benchmarks' node kernel).
+using NodeTestFn = uint32_t (*)(const Node* nodes, uint32_t count, const Ray& ray, float tmax, float* dist,
+                                uint32_t* any_mask);
 /// Moller-Trumbore on one block: mask of lanes hit within [ray.tmin, tmax], their t.
 using BlockTestFn = uint32_t (*)(const Tri4& block, const Ray& ray, float tmax, float* t);
 
