@@ -13,11 +13,12 @@ if(CMAKE_SYSTEM_PROCESSOR MATCHES "x86_64|AMD64|amd64" AND CMAKE_CXX_COMPILER_ID
 
   if(THICKET_BUILD_TESTS)
     # The dispatch-trap check: no function outside thicket::bvh8_avx2/avx512 may hold an AVX
-    # instruction. The fixture (an AVX unit that instantiates std::sort) proves the check fails
-    # when it should.
+    # instruction. The fixture (an AVX unit that emits a shared inline function and std::sort's
+    # helpers) proves the check fails when it should.
     find_program(THICKET_OBJDUMP objdump)
-    if(THICKET_OBJDUMP)
+    if(THICKET_OBJDUMP AND NOT THICKET_SANITIZE)
       add_library(thicket_bvh8_isa_trap STATIC ${PROJECT_SOURCE_DIR}/tests/bvh8/isa_trap_fixture.cpp)
+      target_include_directories(thicket_bvh8_isa_trap PRIVATE ${PROJECT_SOURCE_DIR}/include)
       target_compile_options(thicket_bvh8_isa_trap PRIVATE -mavx2 -mfma ${THICKET_WARNINGS})
       set(_check ${PROJECT_SOURCE_DIR}/tests/bvh8/check_isa_confinement.sh)
       add_test(NAME bvh8.isa_confinement COMMAND ${_check} ${THICKET_OBJDUMP} clean $<TARGET_FILE:thicket>)
