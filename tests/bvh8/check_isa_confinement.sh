@@ -1,14 +1,15 @@
 #!/bin/sh
-# Usage: check_isa_confinement.sh OBJDUMP MODE FILE
+# Usage: check_isa_confinement.sh OBJDUMP MODE FILE [PATTERN]
 # Disassembles FILE (archive or executable) and lists every function outside the namespaces
 # thicket::bvh8_avx2 and thicket::bvh8_avx512 that contains a VEX/EVEX instruction (a v-prefixed
 # AVX mnemonic, a ymm/zmm register, an AVX-512 mask register). Such a function is the dispatch
 # trap: compiled for AVX, callable from baseline code, an illegal instruction on an older CPU.
 # MODE clean: pass iff there is none. MODE clean-cli: the same for an executable, where the
 # C library's own AVX variants (memcpy etc. behind IFUNC, in the dynamic libc, not here) cannot
-# appear; MODE violation: pass iff there is at least one (the check can fail).
+# appear; MODE violation: pass iff there is at least one, and one whose name matches PATTERN
+# (grep -E) when given (the check can fail).
 set -eu
-objdump=$1 mode=$2 file=$3
+objdump=$1 mode=$2 file=$3 pattern=${4:-}
 [ -f "$file" ] || { echo "no such file: $file"; exit 2; }
 "$objdump" -d -C --no-show-raw-insn "$file" > "${TMPDIR:-/tmp}/bvh8-isa-$$.txt"
 found=$(awk '
@@ -38,6 +39,9 @@ case $mode in
     echo "OK: no AVX instruction outside thicket::bvh8_avx2/avx512 in $file" ;;
   violation)
     if [ "$count" -eq 0 ]; then echo "FAIL: the trap fixture was not flagged: the check cannot fail"; exit 1; fi
+    if [ -n "$pattern" ] && ! printf '%s\n' "$found" | grep -Eq "$pattern"; then
+      echo "FAIL: no flagged function matches '$pattern':"; printf '%s\n' "$found" | head -5; exit 1
+    fi
     echo "OK: the check flags the trap fixture ($count function(s)):"; printf '%s\n' "$found" | head -5 ;;
   *) echo "unknown mode $mode"; exit 2 ;;
 esac

@@ -11,7 +11,7 @@
 
 namespace thicket::bvh8_avx2 {
 
-bool (*const trap_within_bounds)(const Ray&, float, const Aabb&) = &thicket::hit_within_bounds;
+bool (*trap_within_bounds)(const Ray&, float, const Aabb&) = &thicket::hit_within_bounds;
 
 /// Sorts v (the point is the AVX-compiled std:: instantiation it leaves behind).
 float sorted_median_trap(std::vector<float>& v) {
