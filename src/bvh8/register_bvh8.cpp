@@ -13,6 +13,7 @@ Bvh8Options bvh8_options(const AccelSpec& spec) {
         b == "midpoint" ? BvhBuilder::Midpoint : (b == "sweep-sah" ? BvhBuilder::SweepSah : BvhBuilder::BinnedSah);
     o.binary.bins = int(spec.get_int("bins"));
     o.binary.max_leaf = int(spec.get_int("max-leaf"));
+    o.merge_below = uint32_t(spec.get_int("leaf-merge"));
     o.isa = bvh8::resolve_isa(spec.get("isa"));
     return o;
 }
@@ -29,6 +30,10 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
          {"midpoint", "binned-sah", "sweep-sah"}, 0, 0},
         {"bins", "bins per axis for binned-sah", "16", {}, 2, 256},
         {"max-leaf", "largest binary leaf (one 4-triangle block per 4)", "4", {}, 1, 255},
+        {"leaf-merge",
+         "binary subtrees of at most this many primitives become one leaf: 4 fills one block; 8 trades "
+         "speed for memory (fewer, fuller nodes)",
+         "4", {}, 0, 64},
         {"isa",
          "traversal kernels: auto (the CPU's best, capped by THICKET_ISA=scalar|sse|avx2|avx512) or one level",
          "auto", {"auto", "scalar", "sse", "avx2", "avx512"}, 0, 0},
@@ -38,7 +43,7 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
         info.variants.push_back("bvh8:isa=" + level);
         info.variants.push_back("bvh8:isa=" + level + ",isect=watertight");
     }
-    info.variants.push_back("bvh8:builder=sweep-sah,max-leaf=8");
+    info.variants.push_back("bvh8:builder=sweep-sah,max-leaf=8,leaf-merge=8");
     info.variants.push_back("bvh8:builder=midpoint,max-leaf=1");
 
     info.build = [](const Scene& scene, const AccelSpec& spec) {
