@@ -10,6 +10,7 @@
 #include "thicket/bench/ray_sets.h"
 #include "thicket/bench/rng.h"
 #include "thicket/bvh/bvh.h"
+#include "thicket/bvh8/bvh8.h"
 #include "thicket/core/ray_box.h"
 #include "thicket/core/triangle.h"
 #include "thicket/prims/triangles.h"
@@ -182,5 +183,99 @@ void BM_BvhAnyHitShadow(benchmark::State& state) {
     state.SetItemsProcessed(int64_t(state.iterations()));
 }
 BENCHMARK(BM_BvhAnyHitShadow);
+
+// ---- bvh8: its node and leaf kernels under each ISA, and whole queries ---------------------
+// The argument is the ISA level (0 scalar, 1 sse, 2 avx2, 3 avx512); levels the CPU lacks skip.
+
+bool use_isa(benchmark::State& state, bvh8::Isa& isa) {
+    isa = bvh8::Isa(state.range(0));
+    if (isa > bvh8::cpu_best_isa()) {
+        state.SkipWithError("the CPU lacks this ISA");
+        return false;
+    }
+    state.SetLabel(bvh8::isa_name(isa));
+    return true;
+}
+
+// 8-wide nodes: 8 slab tests each, the mask of children entered and their entry distances; one
+// ray tests 64 nodes, so that the per-ray setup (3 divisions, the octant) is amortized as in a
+// traversal. Items are nodes.
+void BM_Bvh8NodeTest(benchmark::State& state) {
+    bvh8::Isa isa;
+    if (!use_isa(state, isa)) return;
+    const auto test = bvh8::kernels_for(isa).node_test;
+    Pcg32 rng(6);
+    AlignedVector<bvh8::Node, 64> nodes(256);
+    for (bvh8::Node& n : nodes) {
+        n.valid = 0xff;
+        for (int lane = 0; lane < 8; ++lane) {
+            Aabb b;
+            b.grow(random_point(rng));
+            b.grow(random_point(rng));
+            for (int a = 0; a < 3; ++a) n.box[a][0][lane] = b.min[a], n.box[a][1][lane] = b.max[a];
+        }
+    }
+    const std::vector<Ray> rays = cube_rays(7);
+    size_t i = 0;
+    alignas(32) float dist[8];
+    uint32_t any = 0;
+    for (auto _ : state) {
+        const size_t k = i++ & (kInputs - 1);
+        benchmark::DoNotOptimize(test(&nodes[(k * 64) & 255], 64, rays[k], kInfinity, dist, &any));
+    }
+    state.SetItemsProcessed(int64_t(state.iterations()) * 64);
+}
+BENCHMARK(BM_Bvh8NodeTest)->DenseRange(0, 3);
+
+// One 4-triangle block: Moller-Trumbore on 4 lanes, bitwise the scalar test's results.
+void BM_Bvh8BlockTest(benchmark::State& state) {
+    bvh8::Isa isa;
+    if (!use_isa(state, isa)) return;
+    const auto test = bvh8::kernels_for(isa).block_test;
+    Pcg32 rng(8);
+    std::vector<bvh8::Tri4> blocks(256);
+    for (bvh8::Tri4& b : blocks)
+        for (int lane = 0; lane < 4; ++lane) {
+            b.id[lane] = uint32_t(lane);
+            for (int k = 0; k < 3; ++k) {
+                const Vec3 p = random_point(rng);
+                for (int a = 0; a < 3; ++a) b.v[k][a][lane] = p[a];
+            }
+        }
+    const std::vector<Ray> rays = cube_rays(9);
+    size_t i = 0;
+    float t[4];
+    for (auto _ : state) {
+        const size_t k = i++ & (kInputs - 1);
+        benchmark::DoNotOptimize(test(blocks[k & 255], rays[k], kInfinity, t));
+    }
+    state.SetItemsProcessed(int64_t(state.iterations()));
+}
+BENCHMARK(BM_Bvh8BlockTest)->DenseRange(0, 3);
+
+// Whole queries on the small scene, through the Accel interface as the bench calls them.
+void BM_Bvh8ClosestHit(benchmark::State& state) {
+    bvh8::Isa isa;
+    if (!use_isa(state, isa)) return;
+    const auto& f = SmallSceneFixture::get();
+    const auto accel = build_accel(std::string("bvh8:isa=") + bvh8::isa_name(isa), f.scene);
+    const std::vector<Ray>& rays = f.sets[0].rays;
+    size_t i = 0;
+    for (auto _ : state) benchmark::DoNotOptimize(accel->intersect(rays[i++ % rays.size()]));
+    state.SetItemsProcessed(int64_t(state.iterations()));
+}
+BENCHMARK(BM_Bvh8ClosestHit)->DenseRange(0, 3);
+
+void BM_Bvh8AnyHitShadow(benchmark::State& state) {
+    bvh8::Isa isa;
+    if (!use_isa(state, isa)) return;
+    const auto& f = SmallSceneFixture::get();
+    const auto accel = build_accel(std::string("bvh8:isa=") + bvh8::isa_name(isa), f.scene);
+    const std::vector<Ray>& rays = f.sets[1].rays;
+    size_t i = 0;
+    for (auto _ : state) benchmark::DoNotOptimize(accel->occluded(rays[i++ % rays.size()]));
+    state.SetItemsProcessed(int64_t(state.iterations()));
+}
+BENCHMARK(BM_Bvh8AnyHitShadow)->DenseRange(0, 3);
 
 }  // namespace

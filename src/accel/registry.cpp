@@ -18,6 +18,7 @@ void register_octree(std::vector<AccelInfo>& registry);
 void register_bsp(std::vector<AccelInfo>& registry);
 void register_kdtree(std::vector<AccelInfo>& registry);
 void register_bih(std::vector<AccelInfo>& registry);
+void register_bvh8(std::vector<AccelInfo>& registry);
 
 namespace {
 
@@ -37,6 +38,7 @@ std::vector<AccelInfo> make_registry() {
     register_bsp(r);
     register_kdtree(r);
     register_bih(r);
+    register_bvh8(r);
     for (AccelInfo& info : r) info.options.push_back(triangle_test_option());
     return r;
 }

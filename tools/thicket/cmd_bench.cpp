@@ -9,6 +9,7 @@
 #include "thicket/bench/bench_json.h"
 #include "thicket/bench/bench_tables.h"
 #include "thicket/bench/runner.h"
+#include "thicket/bvh8/isa.h"
 #include "thicket/core/error.h"
 #include "thicket/util/atomic_file.h"
 #include "thicket/util/parallel.h"
@@ -90,6 +91,11 @@ int run_bench(const BenchArgs& args) {
     const std::vector<unsigned> thread_counts = bench_thread_counts(args.threads);
     print_machine("before");
     std::printf("embree  %s\n", embree_note.c_str());
+    // bvh8's kernels are chosen at run time: say which ones this run measures.
+    for (const TracerFactory& t : tracers)
+        if (t.name.rfind("bvh8", 0) == 0)
+            std::printf("isa     %s runs the %s kernels\n", t.name.c_str(),
+                        bvh8::isa_name(bvh8::resolve_isa(parse_accel_spec(t.name).get("isa"))));
     std::printf("bench   %zu tracers x %zu ray sets, %dx%d, median of %d timed passes after a warm-up%s, on %s\n",
                 tracers.size(), set_names.size(), ray_options.width, ray_options.height, args.reps,
                 args.rounds > 1 ? (", " + std::to_string(args.rounds) + " rounds").c_str() : "",

@@ -1,0 +1,41 @@
+#pragma once
+/// Building the 8-wide tree: a binary BVH from any `bvh` builder, collapsed into 8-wide nodes.
+#include <cstdint>
+#include <functional>
+
+#include "thicket/bvh/node.h"
+#include "thicket/bvh8/node.h"
+#include "thicket/core/aligned.h"
+
+namespace thicket::bvh8 {
+
+/// Where a binary leaf went: its first block (or id) and size in the leaf storage; size 0 drops
+/// the leaf (all its triangles degenerate).
+struct LeafPlacement {
+    uint32_t first = 0;
+    uint32_t size = 0;
+};
+/// Stores the primitives prim_indices[first, first + count) of a binary leaf.
+using LeafEmitter = std::function<LeafPlacement(uint32_t first, uint32_t count)>;
+
+/// The nodes of an 8-wide tree and the figures of its build.
+struct Tree {
+    AlignedVector<Node, 64> nodes;  ///< root at 0, depth-first; empty for an empty scene
+    Aabb bounds;                    ///< of every primitive (degenerate ones included)
+    size_t leaves = 0;
+    size_t max_depth = 0;           ///< levels of 8-wide nodes, the leaves' level included
+    double sah_cost = 0.0;          ///< Thicket's metric (kSahTraversalCost, kSahIntersectionCost)
+    double embree_sah_cost = 0.0;   ///< Embree's: (sum node areas + sum leaf area x 4-blocks) / root area
+};
+
+/// Collapses `binary` greedily: a node's children start as its two binary children, and the
+/// interior child of largest surface area is replaced by its own two until there are 8 or
+/// only leaves. Every binary leaf, and every subtree of at most `merge_below` primitives,
+/// becomes one lane, stored by `emit`.
+Tree collapse(const BvhData& binary, const LeafEmitter& emit, uint32_t merge_below);
+
+/// Checks what the kernels rely on: child indices in range and after their parent (no cycle),
+/// leaves within `leaf_slots`, empty lanes inverted. Throws Error naming the first violation.
+void validate_tree(const Tree& tree, size_t leaf_slots);
+
+}  // namespace thicket::bvh8

@@ -1,0 +1,170 @@
+#pragma once
+/// `bvh8`: the production BVH. 8-wide nodes of structure-of-arrays boxes, leaves of 4-triangle
+/// blocks, traversal kernels per ISA chosen at run time (docs/bvh8.md). Any PrimitiveSet: a
+/// triangle set is copied into the blocks (the structure owns its triangles, no index
+/// indirection); any other set keeps its primitives and leaves list ids tested one by one.
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "thicket/accel/accel.h"
+#include "thicket/bvh/build.h"
+#include "thicket/bvh8/build.h"
+#include "thicket/bvh8/isa.h"
+#include "thicket/prims/primitive_set.h"
+#include "thicket/prims/triangles.h"
+
+namespace thicket {
+
+struct Bvh8Options {
+    BvhBuildOptions binary{BvhBuilder::BinnedSah, 16, 4};  ///< the binary BVH that is collapsed
+    bvh8::Isa isa = bvh8::Isa::Scalar;
+    uint32_t merge_below = 4;  ///< subtrees of at most this many primitives become one leaf
+};
+
+namespace bvh8 {
+template <class P>
+inline constexpr bool kIsTriangles = false;
+template <TriangleTest T>
+inline constexpr bool kIsTriangles<Triangles<T>> = true;
+template <class P>
+inline constexpr int kLeafKindOf = kLeafCallback;
+template <>
+inline constexpr int kLeafKindOf<Triangles<TriangleTest::Moller>> = kLeafMoller;
+template <>
+inline constexpr int kLeafKindOf<Triangles<TriangleTest::Watertight>> = kLeafWatertight;
+}  // namespace bvh8
+
+template <PrimitiveSet Prims>
+class Bvh8 final : public AccelBase<Bvh8<Prims>> {
+public:
+    static constexpr int kLeafKind = bvh8::kLeafKindOf<Prims>;
+
+    /// Builds the binary BVH with options.binary, collapses it, and picks options.isa's kernels.
+    Bvh8(Prims prims, const Bvh8Options& options)
+        : prims_(std::move(prims)), primitives_(prims_.size()), kernels_(&bvh8::kernels_for(options.isa)) {
+        std::vector<Aabb> bounds(prims_.size());
+        std::vector<Vec3> centroids(prims_.size());
+        for (uint32_t i = 0; i < prims_.size(); ++i) {
+            bounds[i] = prims_.bounds(i);
+            centroids[i] = prims_.centroid(i);
+        }
+        const BvhData binary = build_bvh({bounds, centroids}, options.binary);
+        if constexpr (bvh8::kIsTriangles<Prims>) {
+            tree_ = bvh8::collapse(
+                binary,
+                [&](uint32_t first, uint32_t count) { return emit_blocks(binary.prim_indices.data() + first, count); },
+                options.merge_below);
+            bvh8::validate_tree(tree_, blocks_.size());
+            prims_ = Prims();  // the blocks are the structure's only copy of the triangles
+        } else {
+            ids_ = binary.prim_indices;
+            tree_ = bvh8::collapse(
+                binary, [](uint32_t first, uint32_t count) { return bvh8::LeafPlacement{first, count}; },
+                options.merge_below);
+            bvh8::validate_tree(tree_, ids_.size());
+        }
+        ctx_ = {tree_.nodes.data(), blocks_.data(), ids_.data(), &prims_, &closest_leaf, &any_leaf};
+    }
+    Bvh8(const Bvh8&) = delete;  // ctx_ points into this object
+    Bvh8& operator=(const Bvh8&) = delete;
+
+    Aabb bounds() const override { return tree_.bounds; }
+
+    template <class C>
+    Hit closest(const Ray& ray, C& counters) const {
+        if (tree_.nodes.empty()) return miss_for(ray);
+        if constexpr (std::is_same_v<C, RayCounters>)
+            return kernels_->closest[kLeafKind][1](ctx_, ray, &counters);
+        else
+            return kernels_->closest[kLeafKind][0](ctx_, ray, nullptr);
+    }
+    template <class C>
+    bool any(const Ray& ray, C& counters) const {
+        if (tree_.nodes.empty()) return false;
+        if constexpr (std::is_same_v<C, RayCounters>)
+            return kernels_->any[kLeafKind][1](ctx_, ray, &counters);
+        else
+            return kernels_->any[kLeafKind][0](ctx_, ray, nullptr);
+    }
+
+    AccelStats stats() const override {
+        AccelStats s = this->base_stats();
+        s.primitives = primitives_;
+        s.nodes = tree_.nodes.size() + tree_.leaves;  // AccelStats counts leaves as nodes
+        s.leaves = tree_.leaves;
+        s.max_depth = tree_.max_depth;
+        s.bytes = tree_.nodes.size() * sizeof(bvh8::Node) + ids_.size() * sizeof(uint32_t);
+        s.primitive_bytes = bvh8::kIsTriangles<Prims> ? blocks_.size() * sizeof(bvh8::Tri4) : prims_.bytes();
+        s.sah_cost = tree_.sah_cost;
+        s.extra.emplace_back("isa", kernels_->isa);
+        s.extra.emplace_back("8-wide nodes", std::to_string(tree_.nodes.size()));
+        s.extra.emplace_back("Embree SAH", std::to_string(tree_.embree_sah_cost));
+        if constexpr (bvh8::kIsTriangles<Prims>) {
+            const size_t lanes = blocks_.size() * 4;
+            s.extra.emplace_back("4-triangle blocks", std::to_string(blocks_.size()) + " (" +
+                                                          std::to_string(lanes ? 100 * kept_ / lanes : 0) +
+                                                          "% of lanes used)");
+            s.extra.emplace_back("degenerate dropped", std::to_string(primitives_ - kept_));
+        }
+        return s;
+    }
+
+    const bvh8::Tree& tree() const { return tree_; }
+    const bvh8::KernelTable& kernels() const { return *kernels_; }
+    const AlignedVector<bvh8::Tri4, 64>& blocks() const { return blocks_; }
+
+private:
+    /// Copies a leaf's non-degenerate triangles into 4-lane blocks (degenerate ones are never
+    /// hit: Triangles::plausible).
+    bvh8::LeafPlacement emit_blocks(const uint32_t* prims, uint32_t count) {
+        bvh8::LeafPlacement p{uint32_t(blocks_.size()), 0};
+        uint32_t lane = 4;
+        for (uint32_t k = 0; k < count; ++k) {
+            const auto v = prims_.triangle(prims[k]);
+            if (Prims::degenerate({v[0], v[1], v[2]})) continue;
+            if (lane == 4) {
+                blocks_.emplace_back();
+                bvh8::Tri4& b = blocks_.back();
+                for (auto& vertex : b.v)
+                    for (auto& axis : vertex)
+                        for (float& x : axis) x = 0.0f;
+                for (uint32_t& id : b.id) id = kNoPrim;
+                lane = 0;
+                ++p.size;
+            }
+            bvh8::Tri4& b = blocks_.back();
+            for (int vertex = 0; vertex < 3; ++vertex)
+                for (int a = 0; a < 3; ++a) b.v[vertex][a][lane] = v[size_t(vertex)][a];
+            b.id[lane] = prims[k];
+            ++lane;
+            ++kept_;
+        }
+        return p;
+    }
+
+    static bool closest_leaf(const void* prims, const uint32_t* ids, uint32_t count, const Ray& ray, Hit& hit) {
+        const Prims& p = *static_cast<const Prims*>(prims);
+        bool found = false;
+        for (uint32_t k = 0; k < count; ++k) found = p.intersect(ids[k], ray, hit) || found;
+        return found;
+    }
+    static bool any_leaf(const void* prims, const uint32_t* ids, uint32_t count, const Ray& ray) {
+        const Prims& p = *static_cast<const Prims*>(prims);
+        for (uint32_t k = 0; k < count; ++k)
+            if (p.occludes(ids[k], ray)) return true;
+        return false;
+    }
+
+    Prims prims_;
+    size_t primitives_ = 0;
+    size_t kept_ = 0;
+    bvh8::Tree tree_;
+    AlignedVector<bvh8::Tri4, 64> blocks_;
+    std::vector<uint32_t> ids_;
+    const bvh8::KernelTable* kernels_;
+    bvh8::TraceContext ctx_;
+};
+
+}  // namespace thicket

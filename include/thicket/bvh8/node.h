@@ -1,0 +1,81 @@
+#pragma once
+/// The 8-wide BVH's memory layout and the plain-data interface between the structure (compiled
+/// for the baseline ISA) and its traversal kernels (one translation unit per ISA, src/bvh8/).
+/// Everything here is data or a declaration: no function body, so that no inline code is shared
+/// between translation units compiled for different ISAs (see docs/bvh8.md, "The dispatch trap").
+#include <cstdint>
+
+#include "thicket/core/ray.h"
+
+namespace thicket::bvh8 {
+
+inline constexpr int kWidth = 8;
+
+/// One 256-byte node: the boxes of its 8 children as structure-of-arrays floats, so that one
+/// vector load fetches one plane of all 8 boxes. box[axis][0][lane] is the lower bound on that
+/// axis, box[axis][1][lane] the upper. A lane is a child only if its bit in `valid` is set; an
+/// empty lane's box is inverted (+inf, -inf), but the mask, not the box, is what excludes it
+/// (a ray with a NaN or infinite component can still pass an inverted box's slab test).
+struct alignas(64) Node {
+    float box[3][2][kWidth];
+    uint32_t child[kWidth];       ///< node index if leaf_size is 0, else the leaf's first block/id
+    uint8_t leaf_size[kWidth];    ///< 0: child is a node; else 4-triangle blocks or primitive ids
+    uint32_t valid;               ///< bit i set: lane i holds a child
+};
+static_assert(sizeof(Node) == 256, "four cache lines per node, as Embree's BVH8");
+
+/// Four triangles as structure-of-arrays: v[k][axis][lane] is vertex k of triangle `lane`.
+/// The vertices are stored, not v0 and two edges, because the kept hit must be bitwise the
+/// scalar Moller-Trumbore's, which computes e1 = v1 - v0 itself, and the plausibility filter
+/// needs each triangle's exact box. Unused lanes have id kNoPrim and all-zero vertices (a zero
+/// determinant: never hit).
+struct alignas(16) Tri4 {
+    float v[3][3][4];
+    uint32_t id[4];
+};
+static_assert(sizeof(Tri4) == 160, "ten 16-byte vectors");
+
+/// How a leaf's primitives are tested.
+enum LeafKind : int {
+    kLeafMoller = 0,      ///< Tri4 blocks, Moller-Trumbore on 4 lanes
+    kLeafWatertight = 1,  ///< Tri4 blocks, the watertight test lane by lane
+    kLeafCallback = 2,    ///< primitive ids, tested one by one through the PrimitiveSet
+    kLeafKinds = 3
+};
+
+/// Leaf tests of a PrimitiveSet, provided by the structure's baseline code (kLeafCallback).
+using ClosestLeafFn = bool (*)(const void* prims, const uint32_t* ids, uint32_t count, const Ray& ray, Hit& hit);
+using AnyLeafFn = bool (*)(const void* prims, const uint32_t* ids, uint32_t count, const Ray& ray);
+
+/// What a traversal kernel reads: the node array (root at 0, never empty when a kernel runs),
+/// the leaf storage and, for callback leaves, the primitive set.
+struct TraceContext {
+    const Node* nodes = nullptr;
+    const Tri4* blocks = nullptr;
+    const uint32_t* ids = nullptr;
+    const void* prims = nullptr;
+    ClosestLeafFn closest_leaf = nullptr;
+    AnyLeafFn any_leaf = nullptr;
+};
+
+/// Closest hit / any hit; counters is null for the non-counting entry ([1] of each table row).
+using ClosestFn = Hit (*)(const TraceContext& ctx, const Ray& ray, RayCounters* counters);
+using AnyFn = bool (*)(const TraceContext& ctx, const Ray& ray, RayCounters* counters);
+/// The 8-wide slab test of `count` nodes with one ray (set up once, as in a traversal): returns
+/// the mask of lanes of the last node entered within [ray.tmin, tmax] and writes their entry
+/// distances to dist[0..8); the OR of all masks is in *any_mask (the micro-benchmarks' node kernel).
+using NodeTestFn = uint32_t (*)(const Node* nodes, uint32_t count, const Ray& ray, float tmax, float* dist,
+                                uint32_t* any_mask);
+/// Moller-Trumbore on one block: mask of lanes hit within [ray.tmin, tmax], their t.
+using BlockTestFn = uint32_t (*)(const Tri4& block, const Ray& ray, float tmax, float* t);
+
+/// One ISA's kernels.
+struct KernelTable {
+    const char* isa;
+    ClosestFn closest[kLeafKinds][2];  ///< [kind][0: no counters, 1: counting]
+    AnyFn any[kLeafKinds][2];
+    NodeTestFn node_test;
+    BlockTestFn block_test;
+};
+
+}  // namespace thicket::bvh8

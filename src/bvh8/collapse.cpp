@@ -1,0 +1,163 @@
+// Collapse of a binary BVH into 8-wide nodes, and the tree's figures.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "thicket/accel/accel.h"
+#include "thicket/bvh8/build.h"
+#include "thicket/core/error.h"
+
+namespace thicket::bvh8 {
+
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+class Collapser {
+public:
+    Collapser(const BvhData& binary, const LeafEmitter& emit, Tree& tree, uint32_t merge_below)
+        : bin_(binary), emit_(emit), tree_(tree), merge_below_(merge_below) {}
+
+    /// Emits the 8-wide node whose children are binary node `b`'s (b itself if it is a leaf,
+    /// which happens only at the root); returns its index.
+    uint32_t emit_node(uint32_t b, size_t depth) {
+        tree_.max_depth = std::max(tree_.max_depth, depth);
+        const uint32_t index = uint32_t(tree_.nodes.size());
+        tree_.nodes.emplace_back();
+        std::vector<uint32_t> kids;
+        const BvhNode& bn = bin_.nodes[b];
+        if (is_leaf(b)) {
+            kids.push_back(b);
+        } else {
+            kids = {bn.leftFirst, bn.leftFirst + 1};
+        }
+        while (kids.size() < size_t(kWidth)) {
+            int widest = -1;
+            float widest_area = -1.0f;
+            for (size_t i = 0; i < kids.size(); ++i) {
+                const BvhNode& k = bin_.nodes[kids[i]];
+                if (!is_leaf(kids[i]) && k.bounds().area() > widest_area) {
+                    widest = int(i);
+                    widest_area = k.bounds().area();
+                }
+            }
+            if (widest < 0) break;
+            const uint32_t open = kids[size_t(widest)];
+            kids[size_t(widest)] = bin_.nodes[open].leftFirst;
+            kids.push_back(bin_.nodes[open].leftFirst + 1);
+        }
+
+        Node node;
+        for (auto& axis : node.box) {
+            std::fill(std::begin(axis[0]), std::end(axis[0]), kInf);
+            std::fill(std::begin(axis[1]), std::end(axis[1]), -kInf);
+        }
+        std::fill(std::begin(node.child), std::end(node.child), 0u);
+        std::fill(std::begin(node.leaf_size), std::end(node.leaf_size), uint8_t(0));
+        node.valid = 0;
+        const double root_area = root_area_;
+        Aabb node_box;
+        for (size_t lane = 0; lane < kids.size(); ++lane) {
+            const BvhNode& k = bin_.nodes[kids[lane]];
+            node_box.grow(k.bounds());
+            if (is_leaf(kids[lane])) {
+                const uint32_t count = count_[kids[lane]];
+                const LeafPlacement p = emit_(first_[kids[lane]], count);
+                if (p.size == 0) continue;
+                if (p.size > 255)
+                    throw Error("bvh8: a leaf of " + std::to_string(count) + " primitives needs " +
+                                std::to_string(p.size) + " slots, more than the 255 a lane can hold");
+                node.child[lane] = p.first;
+                node.leaf_size[lane] = uint8_t(p.size);
+                ++tree_.leaves;
+                tree_.max_depth = std::max(tree_.max_depth, depth + 1);
+                const double area_ratio = root_area > 0 ? double(k.bounds().area()) / root_area : 0.0;
+                tree_.sah_cost += kSahIntersectionCost * area_ratio * count;
+                tree_.embree_sah_cost += area_ratio * double((count + 3) / 4);
+            }
+            for (int a = 0; a < 3; ++a) {
+                node.box[a][0][lane] = k.aabbMin[a];
+                node.box[a][1][lane] = k.aabbMax[a];
+            }
+            node.valid |= 1u << lane;
+        }
+        const double area_ratio = root_area > 0 ? double(node_box.area()) / root_area : 0.0;
+        tree_.sah_cost += kSahTraversalCost * area_ratio;
+        tree_.embree_sah_cost += area_ratio;
+        // Children after the parent: depth-first order, and the vector may reallocate meanwhile.
+        for (size_t lane = 0; lane < kids.size(); ++lane)
+            if ((node.valid >> lane & 1) && !is_leaf(kids[lane]))
+                node.child[lane] = emit_node(kids[lane], depth + 1);
+        tree_.nodes[index] = node;
+        return index;
+    }
+
+    void run() {
+        if (bin_.nodes_used == 0) return;
+        count_.assign(bin_.nodes.size(), 0);
+        first_.assign(bin_.nodes.size(), 0);
+        count_subtree(0);
+        tree_.bounds = bin_.nodes[0].bounds();
+        root_area_ = tree_.bounds.area();
+        emit_node(0, 1);
+    }
+
+private:
+    /// Primitives under binary node n: a subtree's are contiguous in prim_indices (the builders
+    /// partition in place), so they are one range.
+    void count_subtree(uint32_t n) {
+        const BvhNode& node = bin_.nodes[n];
+        if (node.is_leaf()) {
+            count_[n] = node.count;
+            first_[n] = node.leftFirst;
+            return;
+        }
+        count_subtree(node.leftFirst);
+        count_subtree(node.leftFirst + 1);
+        count_[n] = count_[node.leftFirst] + count_[node.leftFirst + 1];
+        first_[n] = std::min(first_[node.leftFirst], first_[node.leftFirst + 1]);
+    }
+
+    /// A binary leaf, or a subtree small enough to become one: its primitives fill one
+    /// 4-triangle block anyway, and one block test beats a node visit plus partial blocks.
+    bool is_leaf(uint32_t n) const { return bin_.nodes[n].is_leaf() || count_[n] <= merge_below_; }
+
+    const BvhData& bin_;
+    const LeafEmitter& emit_;
+    Tree& tree_;
+    uint32_t merge_below_;
+    std::vector<uint32_t> count_, first_;
+    double root_area_ = 0.0;
+};
+
+}  // namespace
+
+Tree collapse(const BvhData& binary, const LeafEmitter& emit, uint32_t merge_below) {
+    Tree tree;
+    Collapser(binary, emit, tree, merge_below).run();
+    return tree;
+}
+
+void validate_tree(const Tree& tree, size_t leaf_slots) {
+    for (size_t n = 0; n < tree.nodes.size(); ++n) {
+        const Node& node = tree.nodes[n];
+        for (int lane = 0; lane < kWidth; ++lane) {
+            const std::string where = "bvh8: node " + std::to_string(n) + " lane " + std::to_string(lane);
+            if (!(node.valid >> lane & 1)) {
+                for (int a = 0; a < 3; ++a)
+                    if (!(node.box[a][0][lane] > node.box[a][1][lane])) throw Error(where + ": empty lane not inverted");
+                continue;
+            }
+            if (node.leaf_size[lane] == 0) {
+                if (node.child[lane] <= n || node.child[lane] >= tree.nodes.size())
+                    throw Error(where + ": child node " + std::to_string(node.child[lane]) + " out of order or range");
+            } else if (size_t(node.child[lane]) + node.leaf_size[lane] > leaf_slots) {
+                throw Error(where + ": leaf beyond the " + std::to_string(leaf_slots) + " slots stored");
+            }
+        }
+    }
+}
+
+}  // namespace thicket::bvh8

@@ -1,0 +1,13 @@
+// The AVX-512VL kernels: 256-bit vectors with mask-register compares, as Embree runs them. Compiled with -mavx512f -mavx512vl (cmake/bvh8_isa.cmake), so nothing here may be shared inline code.
+#include <cstdint>
+#include <immintrin.h>
+
+#include "thicket/bvh8/node.h"
+#include "thicket/core/ray_box.h"
+
+#define THICKET_BVH8_LEVEL 3
+#define THICKET_BVH8_NAME "avx512"
+
+namespace thicket::bvh8_avx512 {
+#include "kernel_body.inc"
+}  // namespace thicket::bvh8_avx512
