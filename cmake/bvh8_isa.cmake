@@ -29,7 +29,5 @@ if(CMAKE_SYSTEM_PROCESSOR MATCHES "x86_64|AMD64|amd64" AND CMAKE_CXX_COMPILER_ID
         add_test(NAME bvh8.isa_confinement_cli COMMAND ${_check} ${THICKET_OBJDUMP} clean-cli $<TARGET_FILE:thicket_cli>)
       endif()
     endif()
-    # The conformance suite's bvh8 variants, one ctest entry (tests/CMakeLists.txt lists the others).
-    add_test(NAME conformance.bvh8 COMMAND $<TARGET_FILE:thicket_conformance> --gtest_filter=*/bvh8_*:*/bvh8)
   endif()
 endif()

@@ -1,20 +1,31 @@
 // Registers `bvh8`: its options, and one conformance variant per ISA this CPU runs.
-#include "thicket/accel/dispatch.h"
+#include "accel/dispatch.h"
 #include "thicket/bvh8/bvh8.h"
+
+#include <string>
+#include <string_view>
 
 namespace thicket {
 
 namespace {
 
+// The same builders as `bvh` (its binary tree is what bvh8 collapses), and the ISA levels.
+constexpr Choice<BvhBuilder> kBuilders[] = {
+    {"midpoint", BvhBuilder::Midpoint},
+    {"binned-sah", BvhBuilder::BinnedSah},
+    {"sweep-sah", BvhBuilder::SweepSah},
+};
+constexpr Choice<std::string_view> kIsas[] = {
+    {"auto", "auto"}, {"scalar", "scalar"}, {"sse", "sse"}, {"avx2", "avx2"}, {"avx512", "avx512"},
+};
+
 Bvh8Options bvh8_options(const AccelSpec& spec) {
     Bvh8Options o;
-    const std::string& b = spec.get("builder");
-    o.binary.builder =
-        b == "midpoint" ? BvhBuilder::Midpoint : (b == "sweep-sah" ? BvhBuilder::SweepSah : BvhBuilder::BinnedSah);
+    o.binary.builder = spec.choice("builder", kBuilders);
     o.binary.bins = int(spec.get_int("bins"));
     o.binary.max_leaf = int(spec.get_int("max-leaf"));
     o.merge_below = uint32_t(spec.get_int("leaf-merge"));
-    o.isa = bvh8::resolve_isa(spec.get("isa"));
+    o.isa = bvh8::resolve_isa(std::string(spec.choice("isa", kIsas)));
     return o;
 }
 
@@ -26,17 +37,18 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
     info.summary = "production BVH: 8-wide SoA nodes, 4-triangle blocks, SIMD kernels chosen by cpuid";
     info.partitioning = Partitioning::Object;
     info.options = {
-        {"builder", "the binary BVH builder whose tree is collapsed to 8 wide", "binned-sah",
-         {"midpoint", "binned-sah", "sweep-sah"}, 0, 0},
+        choice_option("builder", "the binary BVH builder whose tree is collapsed to 8 wide", BvhBuilder::BinnedSah,
+                      kBuilders),
         {"bins", "bins per axis for binned-sah", "16", {}, 2, 256},
         {"max-leaf", "largest binary leaf (one 4-triangle block per 4)", "4", {}, 1, 255},
         {"leaf-merge",
          "binary subtrees of at most this many primitives become one leaf: 4 fills one block; 8 trades "
          "speed for memory (fewer, fuller nodes)",
          "4", {}, 0, 64},
-        {"isa",
-         "traversal kernels: auto (the CPU's best, capped by THICKET_ISA=scalar|sse|avx2|avx512) or one level",
-         "auto", {"auto", "scalar", "sse", "avx2", "avx512"}, 0, 0},
+        choice_option("isa",
+                      "traversal kernels: auto (the CPU's best, capped by THICKET_ISA=scalar|sse|avx2|avx512) or "
+                      "one level",
+                      std::string_view("auto"), kIsas),
     };
     for (bvh8::Isa isa : bvh8::cpu_isas()) {
         const std::string level = bvh8::isa_name(isa);

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <memory>
+#include <tuple>
 
 #include "thicket/prims/mixed.h"
 #include "thicket/prims/triangles.h"
@@ -23,12 +24,14 @@ std::function<Hit(uint32_t, const Ray&)> probe_of(Prims prims) {
 
 PrimitiveProbe::PrimitiveProbe(const Scene& scene, const std::string& isect) : count_(scene.primitive_count()) {
     const bool watertight = isect == "watertight";
-    if (scene.has_shapes())
-        hit_ = watertight ? probe_of(MixedPrimitives<TriangleTest::Watertight>(scene))
-                          : probe_of(MixedPrimitives<TriangleTest::Moller>(scene));
-    else
-        hit_ = watertight ? probe_of(Triangles<TriangleTest::Watertight>(scene.mesh))
-                          : probe_of(Triangles<TriangleTest::Moller>(scene.mesh));
+    if (scene.has_shapes()) {
+        const auto& [mesh, shapes, runs, name] = std::tie(scene.mesh, scene.shapes, scene.runs, scene.name);
+        hit_ = watertight ? probe_of(MixedPrimitives<TriangleTest::Watertight>(mesh, shapes, runs, name))
+                          : probe_of(MixedPrimitives<TriangleTest::Moller>(mesh, shapes, runs, name));
+        return;
+    }
+    hit_ = watertight ? probe_of(Triangles<TriangleTest::Watertight>(scene.mesh))
+                      : probe_of(Triangles<TriangleTest::Moller>(scene.mesh));
 }
 
 PrimitiveProbe::PrimitiveProbe(const TriangleMesh& mesh, const std::string& isect) : count_(mesh.triangle_count()) {
