@@ -1,4 +1,5 @@
 #include "accel/dispatch.h"
+#include "bvh/builder_choices.h"
 #include "thicket/bvh/bvh.h"
 #include "thicket/core/error.h"
 
@@ -6,13 +7,8 @@ namespace thicket {
 
 namespace {
 
-// A new builder or traversal is one line here (and its own file): the listing, the parser and
-// build_options() all read these tables.
-constexpr Choice<BvhBuilder> kBuilders[] = {
-    {"midpoint", BvhBuilder::Midpoint},
-    {"binned-sah", BvhBuilder::BinnedSah},
-    {"sweep-sah", BvhBuilder::SweepSah},
-};
+// A new traversal is one line here, a new builder one line in bvh/builder_choices.h: the listing,
+// the parser and build_options() all read these tables.
 constexpr Choice<BvhTraversal> kTraversals[] = {
     {"recursive", BvhTraversal::Recursive},
     {"stack", BvhTraversal::Stack},
@@ -23,7 +19,7 @@ constexpr Choice<BvhTraversal> kTraversals[] = {
 
 BvhBuildOptions build_options(const AccelSpec& spec) {
     BvhBuildOptions o;
-    o.builder = spec.choice("builder", kBuilders);
+    o.builder = spec.choice("builder", kBvhBuilders);
     o.bins = int(spec.get_int("bins"));
     o.max_leaf = int(spec.get_int("max-leaf"));
     return o;
@@ -40,7 +36,7 @@ void register_bvh(std::vector<AccelInfo>& registry) {
     info.partitioning = Partitioning::Object;
     info.options = {
         choice_option("builder", "split choice: longest-axis midpoint, binned SAH (Wald 2007), or a full SAH sweep",
-                      BvhBuilder::BinnedSah, kBuilders),
+                      BvhBuilder::BinnedSah, kBvhBuilders),
         {"bins", "bins per axis for binned-sah", "8", {}, 2, 256},
         {"max-leaf", "largest leaf; bigger nodes are split even when the SAH would stop", "8", {}, 1, 255},
         choice_option("traversal",
@@ -48,7 +44,7 @@ void register_bvh(std::vector<AccelInfo>& registry) {
                       "the ray's sign on the stored split axis, or on the axis of widest child-centroid separation",
                       BvhTraversal::OrderedDistance, kTraversals),
     };
-    for (const auto& builder : kBuilders)
+    for (const auto& builder : kBvhBuilders)
         for (const auto& traversal : kTraversals)
             info.variants.push_back(std::string("bvh:builder=") + builder.name + ",traversal=" + traversal.name);
     info.variants.push_back("bvh:builder=binned-sah,traversal=ordered-distance,isect=watertight");

@@ -1,5 +1,6 @@
 // Registers `bvh8`: its options, and one conformance variant per ISA this CPU runs.
 #include "accel/dispatch.h"
+#include "bvh/builder_choices.h"
 #include "thicket/bvh8/bvh8.h"
 
 #include <string>
@@ -9,19 +10,13 @@ namespace thicket {
 
 namespace {
 
-// The same builders as `bvh` (its binary tree is what bvh8 collapses), and the ISA levels.
-constexpr Choice<BvhBuilder> kBuilders[] = {
-    {"midpoint", BvhBuilder::Midpoint},
-    {"binned-sah", BvhBuilder::BinnedSah},
-    {"sweep-sah", BvhBuilder::SweepSah},
-};
 constexpr Choice<std::string_view> kIsas[] = {
     {"auto", "auto"}, {"scalar", "scalar"}, {"sse", "sse"}, {"avx2", "avx2"}, {"avx512", "avx512"},
 };
 
 Bvh8Options bvh8_options(const AccelSpec& spec) {
     Bvh8Options o;
-    o.binary.builder = spec.choice("builder", kBuilders);
+    o.binary.builder = spec.choice("builder", kBvhBuilders);
     o.binary.bins = int(spec.get_int("bins"));
     o.binary.max_leaf = int(spec.get_int("max-leaf"));
     o.merge_below = uint32_t(spec.get_int("leaf-merge"));
@@ -38,7 +33,7 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
     info.partitioning = Partitioning::Object;
     info.options = {
         choice_option("builder", "the binary BVH builder whose tree is collapsed to 8 wide", BvhBuilder::BinnedSah,
-                      kBuilders),
+                      kBvhBuilders),
         {"bins", "bins per axis for binned-sah", "16", {}, 2, 256},
         {"max-leaf", "largest binary leaf (one 4-triangle block per 4)", "4", {}, 1, 255},
         {"leaf-merge",
