@@ -21,6 +21,9 @@ if(CMAKE_SYSTEM_PROCESSOR MATCHES "x86_64|AMD64|amd64" AND CMAKE_CXX_COMPILER_ID
       add_library(thicket_bvh8_isa_trap STATIC ${PROJECT_SOURCE_DIR}/tests/bvh8/isa_trap_fixture.cpp)
       target_include_directories(thicket_bvh8_isa_trap PRIVATE ${PROJECT_SOURCE_DIR}/include)
       target_compile_options(thicket_bvh8_isa_trap PRIVATE -mavx2 -mfma ${THICKET_WARNINGS})
+      if(TARGET thicket_test_programs)
+        add_dependencies(thicket_test_programs thicket_bvh8_isa_trap)
+      endif()
       set(_check ${PROJECT_SOURCE_DIR}/tests/bvh8/check_isa_confinement.sh)
       add_test(NAME bvh8.isa_confinement COMMAND ${_check} ${THICKET_OBJDUMP} clean $<TARGET_FILE:thicket>)
       add_test(NAME bvh8.isa_confinement_detects_trap
