@@ -116,7 +116,7 @@ public:
         return f;
     }
 
-    void trace(std::span<const Ray> rays, std::span<Hit> hits, unsigned threads) const override {
+    void trace(std::span<const Ray> rays, std::span<Hit> hits, unsigned threads, bool) const override {
         RTCScene scene = get();
         parallel_for(rays.size(), kGrain, threads, [&](size_t begin, size_t end) {
             RTCIntersectContext context;

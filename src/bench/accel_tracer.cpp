@@ -1,5 +1,5 @@
-// The Tracer adapter of Thicket's own structures: one virtual Accel call per ray, in the same
-// parallel loop shape as every other tracer.
+// The Tracer adapter of Thicket's own structures: Accel's batch queries (one virtual call per
+// ray unless the structure traces packets of coherent rays).
 #include <memory>
 #include <mutex>
 
@@ -41,18 +41,17 @@ public:
         return f;
     }
 
-    void trace(std::span<const Ray> rays, std::span<Hit> hits, unsigned threads) const override {
-        const Accel& a = get();
-        parallel_for(rays.size(), kGrain, threads, [&](size_t begin, size_t end) {
-            for (size_t i = begin; i < end; ++i) hits[i] = a.intersect(rays[i]);
-        });
+    void trace(std::span<const Ray> rays, std::span<Hit> hits, unsigned threads, bool coherent) const override {
+        BatchOptions batch;
+        batch.threads = threads;
+        batch.coherent = coherent;
+        get().intersect(rays, hits, batch);
     }
 
     void occluded(std::span<const Ray> rays, std::span<uint8_t> out, unsigned threads) const override {
-        const Accel& a = get();
-        parallel_for(rays.size(), kGrain, threads, [&](size_t begin, size_t end) {
-            for (size_t i = begin; i < end; ++i) out[i] = a.occluded(rays[i]) ? 1 : 0;
-        });
+        BatchOptions batch;
+        batch.threads = threads;
+        get().occluded(rays, out, batch);
     }
 
     bool count(std::span<const Ray> rays, bool any_hit, RayCounters& total, unsigned threads) const override {

@@ -6,7 +6,6 @@
 
 #include "thicket/bench/rng.h"
 #include "thicket/core/error.h"
-#include "thicket/util/parallel.h"
 
 namespace thicket {
 
@@ -58,9 +57,9 @@ struct SurfacePoint {
 std::vector<SurfacePoint> surface_points(const Scene& scene, const Accel& accel, const std::vector<Ray>& primary,
                                          unsigned threads) {
     std::vector<Hit> hits(primary.size());
-    parallel_for(primary.size(), 1024, threads, [&](size_t begin, size_t end) {
-        for (size_t i = begin; i < end; ++i) hits[i] = accel.intersect(primary[i]);
-    });
+    BatchOptions batch;
+    batch.threads = threads;
+    accel.intersect(primary, hits, batch);
     const float offset = surface_offset(scene.bounds());
     std::vector<SurfacePoint> points;
     for (size_t i = 0; i < primary.size(); ++i) {
@@ -221,7 +220,7 @@ std::vector<RaySet> generate_ray_sets(const Scene& scene, const Accel& hits_from
     std::vector<RaySet> sets;
     for (const std::string& name : names) {
         if (name == "primary")
-            sets.push_back({"primary", false, primary, {}});
+            sets.push_back({"primary", false, primary, {}, true});
         else if (name == "shadow")
             sets.push_back(shadow_set(points, view.light));
         else if (name == "diffuse")

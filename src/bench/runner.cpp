@@ -32,7 +32,8 @@ void run_pass(const Tracer& tracer, const RaySet& set, std::span<const Ray> rays
         tracer.occluded(rays, flags, threads);
     } else {
         hits.resize(rays.size());
-        tracer.trace(rays, hits, threads);
+        // The set's rays in their order are coherent; a sample of every k-th is not.
+        tracer.trace(rays, hits, threads, set.coherent && rays.data() == set.rays.data());
     }
 }
 

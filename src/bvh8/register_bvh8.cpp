@@ -13,6 +13,7 @@ namespace {
 constexpr Choice<std::string_view> kIsas[] = {
     {"auto", "auto"}, {"scalar", "scalar"}, {"sse", "sse"}, {"avx2", "avx2"}, {"avx512", "avx512"},
 };
+constexpr Choice<bool> kOnOff[] = {{"on", true}, {"off", false}};
 
 Bvh8Options bvh8_options(const AccelSpec& spec) {
     Bvh8Options o;
@@ -21,6 +22,7 @@ Bvh8Options bvh8_options(const AccelSpec& spec) {
     o.binary.max_leaf = int(spec.get_int("max-leaf"));
     o.merge_below = uint32_t(spec.get_int("leaf-merge"));
     o.isa = bvh8::resolve_isa(std::string(spec.choice("isa", kIsas)));
+    o.packets = spec.choice("packets", kOnOff);
     return o;
 }
 
@@ -44,6 +46,10 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
                       "traversal kernels: auto (the CPU's best, capped by THICKET_ISA=scalar|sse|avx2|avx512) or "
                       "one level",
                       std::string_view("auto"), kIsas),
+        choice_option("packets",
+                      "batches marked coherent (camera rays in tiles: `thicket render`, `trace --coherent`, the "
+                      "bench's primary set) are traced 16 rays at a time through the packet kernels; same answers",
+                      true, kOnOff),
     };
     for (bvh8::Isa isa : bvh8::cpu_isas()) {
         const std::string level = bvh8::isa_name(isa);

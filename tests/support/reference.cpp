@@ -122,6 +122,31 @@ std::string compare_with_reference(const Accel& accel, const Reference& ref, con
     const AccelSpec spec = parse_accel_spec(accel.spec());
     const bool repeats_tests = spec.options.count("mailbox") && spec.get("mailbox") == "off";
     const size_t most_tests = repeats_tests ? SIZE_MAX : ref.probe->size();
+    // The batch queries: rays grouped by direction octant and marked coherent, so that packet
+    // kernels (bvh8) get whole packets of them; answers must be the per-ray ones.
+    const size_t n = ref.rays.size();
+    std::vector<size_t> order(n);
+    for (size_t i = 0; i < n; ++i) order[i] = i;
+    auto octant = [&](size_t i) {
+        const Vec3 d = ref.rays[i].dir;
+        return int(std::signbit(d.x)) | int(std::signbit(d.y)) << 1 | int(std::signbit(d.z)) << 2;
+    };
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return octant(a) < octant(b); });
+    std::vector<Ray> grouped(n);
+    for (size_t k = 0; k < n; ++k) grouped[k] = ref.rays[order[k]];
+    std::vector<Hit> batch_hits(n);
+    std::vector<uint8_t> batch_occluded(n);
+    BatchOptions coherent;
+    coherent.coherent = true;
+    accel.intersect(grouped, batch_hits, coherent);
+    accel.occluded(grouped, batch_occluded, coherent);
+    std::vector<Hit> batch_hit_of(n);
+    std::vector<uint8_t> batch_occluded_of(n);
+    for (size_t k = 0; k < n; ++k) {
+        batch_hit_of[order[k]] = batch_hits[k];
+        batch_occluded_of[order[k]] = batch_occluded[k];
+    }
+
     std::ostringstream errors;
     size_t bad = 0;
     for (size_t i = 0; i < ref.rays.size(); ++i) {
@@ -137,6 +162,11 @@ std::string compare_with_reference(const Accel& accel, const Reference& ref, con
             what = "closest hit " + describe(plain) + ", brute force " + describe(ref.hits[i]);
         else if (!identical_hits(counted, plain))
             what = "counting pass differs: " + describe(counted) + " vs " + describe(plain);
+        else if (!same_closest_hit(batch_hit_of[i], ref.hits[i], r, *ref.probe) || batch_hit_of[i].t != plain.t)
+            what = "coherent batch " + describe(batch_hit_of[i]) + ", one ray at a time " + describe(plain);
+        else if (bool(batch_occluded_of[i]) != occ)
+            what = std::string("batch occluded ") + (batch_occluded_of[i] ? "yes" : "no") + ", one ray at a time " +
+                   (occ ? "yes" : "no");
         else if (occ != bool(ref.occluded[i]) || occ_counted != occ)
             what = std::string("occluded ") + (occ ? "yes" : "no") + ", brute force " + (ref.occluded[i] ? "yes" : "no");
         else if (counters.prims > most_tests || occ_counters.prims > most_tests)

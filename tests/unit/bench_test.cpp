@@ -396,8 +396,8 @@ public:
     bool parallel_build() const override { return false; }
     double build(const Scene& scene, unsigned threads) override { return inner_->build(scene, threads); }
     TracerFigures figures() const override { return inner_->figures(); }
-    void trace(std::span<const Ray> rays, std::span<Hit> hits, unsigned threads) const override {
-        inner_->trace(rays, hits, threads);
+    void trace(std::span<const Ray> rays, std::span<Hit> hits, unsigned threads, bool coherent) const override {
+        inner_->trace(rays, hits, threads, coherent);
         for (Hit& h : hits) {
             if (h.found()) {
                 h.prim ^= 1u;
@@ -482,9 +482,9 @@ public:
     bool parallel_build() const override { return false; }
     double build(const Scene& scene, unsigned threads) override { return inner_->build(scene, threads); }
     TracerFigures figures() const override { return inner_->figures(); }
-    void trace(std::span<const Ray> rays, std::span<Hit> hits, unsigned threads) const override {
+    void trace(std::span<const Ray> rays, std::span<Hit> hits, unsigned threads, bool coherent) const override {
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
-        inner_->trace(rays, hits, threads);
+        inner_->trace(rays, hits, threads, coherent);
     }
     void occluded(std::span<const Ray> rays, std::span<uint8_t> out, unsigned threads) const override {
         std::this_thread::sleep_for(std::chrono::milliseconds(2));

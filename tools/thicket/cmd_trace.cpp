@@ -1,6 +1,5 @@
 // `thicket trace`: closest-hit or any-hit queries for a batch of rays from a .npy file.
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -21,6 +20,7 @@ struct TraceArgs {
     std::string rays;
     std::string output;
     bool any_hit = false;
+    bool coherent = false;
     unsigned threads = 0;
 };
 
@@ -32,44 +32,53 @@ int run_trace(const TraceArgs& args) {
     const Scene scene = load_scene_verbose(args.scene);
     const std::unique_ptr<Accel> accel = make_accel_verbose(args.accel, spec, scene);
 
+    // Rows without meaning are answered as misses; the others are traced as one batch.
+    std::vector<Ray> valid;
+    std::vector<size_t> row_of;
+    valid.reserve(n);
+    row_of.reserve(n);
+    for (size_t i = 0; i < n; ++i) {
+        Ray ray;
+        if (!make_ray(&rays.values[8 * i], ray)) continue;
+        valid.push_back(ray);
+        row_of.push_back(i);
+    }
+    const size_t invalid = n - valid.size();
+
     std::vector<Hit> hits(args.any_hit ? 0 : n);
     std::vector<uint8_t> occluded(args.any_hit ? n : 0);
-    std::atomic<size_t> invalid{0}, found{0};
-    Progress progress("trace", n, "rays");
+    std::vector<Hit> valid_hits(args.any_hit ? 0 : valid.size());
+    std::vector<uint8_t> valid_occluded(args.any_hit ? valid.size() : 0);
+    Progress progress("trace", valid.size(), "rays");
+    BatchOptions batch;
+    batch.threads = args.threads;
+    batch.coherent = args.coherent;
+    batch.progress = [&](size_t done) { progress.advance(done); };
     const auto start = std::chrono::steady_clock::now();
-    // Small enough chunks that slow structures still move the progress bar, large enough that
-    // fast ones do not contend on the work counter.
-    const size_t grain = std::clamp<size_t>(n / (size_t(resolve_threads(args.threads)) * 64), 16, 4096);
-    parallel_for(n, grain, args.threads, [&](size_t begin, size_t end) {
-        size_t bad = 0, hit_count = 0;
-        for (size_t i = begin; i < end; ++i) {
-            Ray ray;
-            const bool ok = make_ray(&rays.values[8 * i], ray);
-            bad += !ok;
-            if (args.any_hit) {
-                occluded[i] = ok && accel->occluded(ray) ? 1 : 0;
-                hit_count += occluded[i];
-            } else {
-                Hit h = ok ? accel->intersect(ray) : Hit{};
-                if (!h.found()) h = Hit{};  // a miss reports t = +inf, not the ray's tmax
-                hits[i] = h;
-                hit_count += h.found();
-            }
-        }
-        invalid += bad;
-        found += hit_count;
-        progress.advance(end - begin);
-    });
+    if (args.any_hit)
+        accel->occluded(valid, valid_occluded, batch);
+    else
+        accel->intersect(valid, valid_hits, batch);
     const double seconds = ms_since(start) / 1000.0;
     progress.finish();
+    size_t found = 0;
+    for (size_t k = 0; k < valid.size(); ++k) {
+        if (args.any_hit) {
+            occluded[row_of[k]] = valid_occluded[k];
+            found += valid_occluded[k];
+        } else if (valid_hits[k].found()) {  // a miss keeps Hit{}: t = +inf, not the ray's tmax
+            hits[row_of[k]] = valid_hits[k];
+            ++found;
+        }
+    }
 
     std::printf("trace   %s %s rays in %s, %s rays/s: %zu %s, %zu not\n", args.any_hit ? "any-hit" : "closest-hit",
                 format_si(double(n)).c_str(), format_duration(seconds).c_str(),
-                format_si(seconds > 0 ? double(n) / seconds : 0.0).c_str(), found.load(),
-                args.any_hit ? "occluded" : "hit", n - found.load());
+                format_si(seconds > 0 ? double(n) / seconds : 0.0).c_str(), found,
+                args.any_hit ? "occluded" : "hit", n - found);
     if (invalid)
         std::printf("note    %zu rays were invalid (NaN, infinite origin or direction, zero direction or "
-                    "tmin > tmax) and count as misses\n", invalid.load());
+                    "tmin > tmax) and count as misses\n", invalid);
     if (args.any_hit)
         write_npy_u8(args.output, occluded);
     else
@@ -98,6 +107,9 @@ Command add_trace_command(CLI::App& app) {
         ->required()
         ->type_name("FILE");
     cmd->add_flag("--any-hit", args->any_hit, "only ask whether each ray is blocked (faster), write a uint8 array");
+    cmd->add_flag("--coherent", args->coherent,
+                  "a hint that consecutive rays are neighbours (a camera's pixels in 4x4 tiles, or along a row): "
+                  "structures with a packet path (bvh8) then trace 16 at a time; the answers are the same");
     add_threads_option(cmd, args->threads);
     return {cmd, [args] { return run_trace(*args); }};
 }

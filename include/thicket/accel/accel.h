@@ -4,8 +4,10 @@
 /// indirection (never per node). For the last few percent, use a structure's class directly.
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <iosfwd>
 #include <memory>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -30,6 +32,21 @@ struct AccelStats {
     std::vector<std::pair<std::string, std::string>> extra;  ///< structure-specific figures
 };
 
+/// How a batch of rays is traced (Accel::intersect / occluded over spans).
+struct BatchOptions {
+    unsigned threads = 0;  ///< 0: all cores
+    /// A hint that consecutive rays are neighbours (a camera's pixels in small tiles): structures
+    /// with a packet path (bvh8) trace groups of them together. The answers are the same either way.
+    bool coherent = false;
+    /// Called with the number of rays just finished, from whichever thread finished them (for a
+    /// progress bar); may be empty. Must not throw.
+    std::function<void(size_t)> progress;
+};
+
+/// Rays per unit of work in a batch: a multiple of every packet size, small enough that a slow
+/// region of the image does not leave one thread working alone at the end.
+inline constexpr size_t kBatchGrain = 256;
+
 class Accel {
 public:
     virtual ~Accel() = default;
@@ -44,6 +61,13 @@ public:
     virtual bool occluded(const Ray& ray) const = 0;
     virtual bool occluded(const Ray& ray, RayCounters& counters) const = 0;
     virtual AccelStats stats() const = 0;
+
+    /// Closest hit of every ray: hits[i] is what intersect(rays[i]) returns, on options.threads
+    /// threads. Throws Error if the spans differ in size.
+    void intersect(std::span<const Ray> rays, std::span<Hit> hits, const BatchOptions& options = {}) const;
+    /// Any hit of every ray: occluded[i] is 1 if occluded(rays[i]), else 0.
+    void occluded(std::span<const Ray> rays, std::span<uint8_t> occluded, const BatchOptions& options = {}) const;
+
     /// Writes the structure's payload (save_accel() adds the checked header); throws Error if
     /// the structure cannot be saved.
     virtual void save(std::ostream& out) const;
@@ -57,6 +81,12 @@ public:
     }
 
 protected:
+    /// One thread's share of a batch (the batch functions split the rays and call these): the
+    /// default asks intersect()/occluded() ray by ray; a structure overrides them to trace
+    /// groups of rays together, with the same answers.
+    virtual void intersect_chunk(std::span<const Ray> rays, std::span<Hit> hits, bool coherent) const;
+    virtual void occluded_chunk(std::span<const Ray> rays, std::span<uint8_t> occluded, bool coherent) const;
+
     /// Stats with the fields every structure shares already filled in.
     AccelStats base_stats() const {
         AccelStats s;
@@ -89,6 +119,8 @@ private:
 template <class Derived>
 class AccelBase : public Accel {
 public:
+    using Accel::intersect;  // the batch overloads stay visible next to the per-ray ones
+    using Accel::occluded;
     Hit intersect(const Ray& ray) const final {
         NoCounters none;
         return self().closest(ray, none);

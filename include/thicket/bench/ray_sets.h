@@ -57,6 +57,7 @@ struct RaySet {
     bool any_hit = false;      ///< traced with occluded() (shadow) rather than intersect()
     std::vector<Ray> rays;
     std::vector<uint32_t> source;  ///< shadow, diffuse: index of the primary ray each ray starts at
+    bool coherent = false;     ///< consecutive rays are neighbours (primary: along a row)
 };
 
 struct RaySetOptions {

@@ -9,15 +9,16 @@
 #include <span>
 #include <string>
 
+#include "thicket/accel/accel.h"
 #include "thicket/core/ray.h"
 #include "thicket/scene/scene.h"
 
 namespace thicket {
 
-/// Rays per parallel chunk in every tracer's trace loop: large enough that the shared counter is
-/// touched rarely, small enough that a slow region of the image does not leave one thread working
-/// alone at the end. The bench also uses it to know how many threads a pass can keep busy.
-inline constexpr size_t kTraceGrain = 512;
+/// Rays per parallel chunk in every tracer's trace loop: Accel's batch grain (large enough that the
+/// shared counter is touched rarely, small enough that a slow region of the image does not leave one
+/// thread working alone at the end). The bench also uses it to know how many threads a pass can keep busy.
+inline constexpr size_t kTraceGrain = kBatchGrain;
 
 /// Figures of the current build.
 struct TracerFigures {
@@ -46,8 +47,9 @@ public:
     virtual TracerFigures figures() const = 0;
 
     /// Closest hit of rays[i] into hits[i] (same sizes) on `threads` threads (0: all). A miss has
-    /// prim == kNoPrim.
-    virtual void trace(std::span<const Ray> rays, std::span<Hit> hits, unsigned threads) const = 0;
+    /// prim == kNoPrim. `coherent`: consecutive rays are neighbours (BatchOptions::coherent); a
+    /// tracer may use it to trace them as packets.
+    virtual void trace(std::span<const Ray> rays, std::span<Hit> hits, unsigned threads, bool coherent) const = 0;
     /// Any hit: out[i] = 1 if anything lies within [tmin, tmax] of rays[i], else 0.
     virtual void occluded(std::span<const Ray> rays, std::span<uint8_t> out, unsigned threads) const = 0;
     /// Untimed counting pass: adds the nodes visited and primitives tested for every ray to

@@ -3,6 +3,9 @@
 /// blocks, traversal kernels per ISA chosen at run time (docs/bvh8.md). Any PrimitiveSet: a
 /// triangle set is copied into the blocks (the structure owns its triangles, no index
 /// indirection); any other set keeps its primitives and leaves list ids tested one by one.
+#include <algorithm>
+#include <cmath>
+#include <span>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -21,6 +24,7 @@ struct Bvh8Options {
     BvhBuildOptions binary{BvhBuilder::BinnedSah, 16, 4};  ///< the binary BVH that is collapsed
     bvh8::Isa isa = bvh8::Isa::Scalar;
     uint32_t merge_below = 4;  ///< subtrees of at most this many primitives become one leaf
+    bool packets = true;       ///< coherent batches go through the packet kernels
 };
 
 namespace bvh8 {
@@ -43,7 +47,10 @@ public:
 
     /// Builds the binary BVH with options.binary, collapses it, and picks options.isa's kernels.
     Bvh8(Prims prims, const Bvh8Options& options)
-        : prims_(std::move(prims)), primitives_(prims_.size()), kernels_(&bvh8::kernels_for(options.isa)) {
+        : prims_(std::move(prims)),
+          primitives_(prims_.size()),
+          packets_(options.packets),
+          kernels_(&bvh8::kernels_for(options.isa)) {
         std::vector<Aabb> bounds(prims_.size());
         std::vector<Vec3> centroids(prims_.size());
         for (uint32_t i = 0; i < prims_.size(); ++i) {
@@ -115,7 +122,42 @@ public:
     const bvh8::KernelTable& kernels() const { return *kernels_; }
     const AlignedVector<bvh8::Tri4, 64>& blocks() const { return blocks_; }
 
+protected:
+    /// Coherent batches: each 16 consecutive rays that share a direction octant (and have no zero
+    /// direction component) go through the packet kernel; others, and incoherent batches, ray by ray.
+    void intersect_chunk(std::span<const Ray> rays, std::span<Hit> hits, bool coherent) const override {
+        if (!coherent || !packets_ || tree_.nodes.empty()) return Accel::intersect_chunk(rays, hits, coherent);
+        for (size_t begin = 0; begin < rays.size(); begin += bvh8::kPacketSize) {
+            const uint32_t count = uint32_t(std::min<size_t>(bvh8::kPacketSize, rays.size() - begin));
+            if (count > 1 && packet_eligible(&rays[begin], count)) {
+                kernels_->packet_closest[kLeafKind](ctx_, &rays[begin], count, &hits[begin]);
+            } else {
+                NoCounters none;
+                for (size_t i = begin; i < begin + count; ++i) hits[i] = closest(rays[i], none);
+            }
+        }
+    }
+
 private:
+    /// The packet kernels' precondition: one octant, finite 1/dir on every axis (the kernels
+    /// compute 1/dir the same way).
+    static bool packet_eligible(const Ray* rays, uint32_t count) {
+        auto octant = [](const Vec3& d, bool& finite) {
+            const float inv[3] = {1.0f / d.x, 1.0f / d.y, 1.0f / d.z};
+            int o = 0;
+            for (int a = 0; a < 3; ++a) {
+                finite = finite && std::isfinite(inv[a]);
+                o |= int(std::signbit(inv[a])) << a;
+            }
+            return o;
+        };
+        bool finite = true;
+        const int first = octant(rays[0].dir, finite);
+        for (uint32_t k = 1; k < count && finite; ++k)
+            if (octant(rays[k].dir, finite) != first) return false;
+        return finite;
+    }
+
     /// Copies a leaf's non-degenerate triangles into 4-lane blocks (degenerate ones are never
     /// hit: Triangles::plausible).
     bvh8::LeafPlacement emit_blocks(const uint32_t* prims, uint32_t count) {
@@ -160,6 +202,7 @@ private:
     Prims prims_;
     size_t primitives_ = 0;
     size_t kept_ = 0;
+    bool packets_ = true;
     bvh8::Tree tree_;
     AlignedVector<bvh8::Tri4, 64> blocks_;
     std::vector<uint32_t> ids_;

@@ -69,6 +69,12 @@ using NodeTestFn = uint32_t (*)(const Node* nodes, uint32_t count, const Ray& ra
 /// Moller-Trumbore on one block: mask of lanes hit within [ray.tmin, tmax], their t.
 using BlockTestFn = uint32_t (*)(const Tri4& block, const Ray& ray, float tmax, float* t);
 
+/// Closest hits of a packet: rays[0..count), 1 <= count <= kPacketSize, all in one direction octant
+/// and with finite 1/dir on every axis, into hits[0..count): what ClosestFn answers for each ray
+/// (the primitive may differ only between primitives hit at the very same t).
+using PacketClosestFn = void (*)(const TraceContext& ctx, const Ray* rays, uint32_t count, Hit* hits);
+inline constexpr uint32_t kPacketSize = 16;
+
 /// One ISA's kernels.
 struct KernelTable {
     const char* isa;
@@ -76,6 +82,7 @@ struct KernelTable {
     AnyFn any[kLeafKinds][2];
     NodeTestFn node_test;
     BlockTestFn block_test;
+    PacketClosestFn packet_closest[kLeafKinds];
 };
 
 }  // namespace thicket::bvh8

@@ -1,0 +1,152 @@
+// bvh8's packet path (coherent batches, 16 rays through the tree together) answers what the
+// single-ray kernels answer, ray for ray, under every ISA this CPU runs: camera rays in 4x4 tiles
+// (the case it is for), partial and mixed packets, per-ray intervals, and scenes whose rays fall
+// back to single-ray traversal. The conformance suite checks the batch path against brute force on
+// every scene as well; this pins it to the single-ray kernels bit for bit.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "support/probe.h"
+#include "support/test_scenes.h"
+#include "thicket/accel/registry.h"
+#include "thicket/bvh8/isa.h"
+#include "thicket/core/error.h"
+#include "thicket/render/camera.h"
+#include "thicket/scene/scene.h"
+
+namespace thicket {
+namespace {
+
+/// A camera's rays for a width x height image, 4x4 tiles of pixels one after the other (as
+/// `thicket render` batches them).
+std::vector<Ray> tiled_camera_rays(const Camera& camera, int width, int height) {
+    std::vector<Ray> rays;
+    for (int by = 0; by < height; by += 4)
+        for (int bx = 0; bx < width; bx += 4)
+            for (int y = by; y < std::min(height, by + 4); ++y)
+                for (int x = bx; x < std::min(width, bx + 4); ++x)
+                    rays.push_back(camera.generate(float(x) + 0.5f, float(y) + 0.5f, width, height));
+    return rays;
+}
+
+/// The single-ray answers and both batch paths agree: the same t bitwise, and the same primitive
+/// unless another one is hit at that very t (packets visit leaves in another order).
+void expect_batch_is_single_ray(const Accel& accel, const std::vector<Ray>& rays, const std::string& what) {
+    std::vector<Hit> coherent(rays.size()), plain(rays.size());
+    BatchOptions hint;
+    hint.coherent = true;
+    accel.intersect(rays, coherent, hint);
+    accel.intersect(rays, plain);
+    size_t hits = 0, bad = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+        const Hit single = accel.intersect(rays[i]);
+        hits += single.found();
+        const bool same = testing::identical_hits(coherent[i], single) ||
+                          (coherent[i].found() && single.found() && coherent[i].t == single.t);
+        if ((!same || !testing::identical_hits(plain[i], single)) && bad++ < 3)
+            ADD_FAILURE() << what << " " << accel.spec() << " ray " << i << ": batch prim " << coherent[i].prim
+                          << " t " << coherent[i].t << ", single-ray prim " << single.prim << " t " << single.t;
+    }
+    EXPECT_EQ(bad, 0u) << what << " " << accel.spec();
+    EXPECT_GT(hits, rays.size() / 10) << what << ": the rays must hit something to test anything";
+}
+
+std::vector<std::string> every_isa(const std::string& options) {
+    std::vector<std::string> specs;
+    for (bvh8::Isa isa : bvh8::cpu_isas())
+        specs.push_back("bvh8:isa=" + std::string(bvh8::isa_name(isa)) + (options.empty() ? "" : "," + options));
+    return specs;
+}
+
+TEST(Bvh8Packets, CameraTilesAnswerAsSingleRays) {
+    const Scene scene = load_scene("cornell");
+    const Aabb b = scene.bounds();
+    // Inside the box looking at a corner: every ray has the same direction signs, so every tile is
+    // a full packet; and from the front, where tiles straddle the image's axes and fall back.
+    const Camera corner(b.center(), b.max, {0, 1, 0}, 50.0f);
+    const Camera front(b.center() + Vec3(0, 0, 2.5f * b.extent().z), b.center(), {0, 1, 0}, 40.0f);
+    for (const char* isect : {"moller", "watertight"})
+        for (const std::string& spec : every_isa(std::string("isect=") + isect)) {
+            const auto accel = build_accel(spec, scene);
+            expect_batch_is_single_ray(*accel, tiled_camera_rays(corner, 64, 48), "corner view");
+            expect_batch_is_single_ray(*accel, tiled_camera_rays(front, 67, 45), "front view");
+        }
+}
+
+TEST(Bvh8Packets, PerRayIntervalsAndPartialPacketsAreKept) {
+    const Scene scene = load_scene("cornell");
+    const Aabb b = scene.bounds();
+    const Camera corner(b.center(), b.max, {0, 1, 0}, 50.0f);
+    std::vector<Ray> rays = tiled_camera_rays(corner, 32, 32);
+    // Each ray gets its own window: some stop short of their hit, some start beyond it.
+    const std::vector<Hit> full = [&] {
+        std::vector<Hit> h(rays.size());
+        build_accel("bvh8", scene)->intersect(rays, h);
+        return h;
+    }();
+    for (size_t i = 0; i < rays.size(); ++i) {
+        if (!full[i].found()) continue;
+        switch ((i + 2) % 5) {  // ray 0 keeps its hit: the 1-ray batch must hit
+        case 0: rays[i].tmax = full[i].t * 0.5f; break;
+        case 1: rays[i].tmin = full[i].t * 1.001f; break;
+        case 2: rays[i].tmin = full[i].t * 0.9f, rays[i].tmax = full[i].t * 1.1f; break;
+        default: break;
+        }
+    }
+    for (const std::string& spec : every_isa("")) {
+        const auto accel = build_accel(spec, scene);
+        for (size_t count : {size_t(1), size_t(5), size_t(15), size_t(17), rays.size()}) {
+            const std::vector<Ray> part(rays.begin(), rays.begin() + long(count));
+            expect_batch_is_single_ray(*accel, part, std::to_string(count) + " rays");
+        }
+    }
+}
+
+TEST(Bvh8Packets, NastyScenesAndMixedPrimitivesAnswerAsSingleRays) {
+    for (const Scene& scene : testing::nasty_scenes()) {
+        if (scene.mesh.triangle_count() + scene.shapes.size() < 2) continue;
+        const Aabb b = scene.bounds();
+        const Vec3 eye = b.min - b.extent() * 0.5f - Vec3(1e-3f);
+        const Camera camera(eye, b.center(), {0, 1, 0}, 60.0f);
+        const std::vector<Ray> rays = tiled_camera_rays(camera, 40, 40);
+        for (const std::string& spec : every_isa("")) {
+            const auto accel = build_accel(spec, scene);
+            std::vector<Hit> coherent(rays.size());
+            BatchOptions hint;
+            hint.coherent = true;
+            accel->intersect(rays, coherent, hint);
+            for (size_t i = 0; i < rays.size(); ++i) {
+                const Hit single = accel->intersect(rays[i]);
+                ASSERT_TRUE(testing::identical_hits(coherent[i], single) || coherent[i].t == single.t)
+                    << scene.name << " " << spec << " ray " << i;
+            }
+        }
+    }
+}
+
+TEST(Bvh8Packets, PacketsOffIsTheSameAnswer) {
+    const Scene scene = load_scene("cornell");
+    const Aabb b = scene.bounds();
+    const std::vector<Ray> rays = tiled_camera_rays(Camera(b.center(), b.max, {0, 1, 0}, 50.0f), 48, 48);
+    const auto on = build_accel("bvh8", scene), off = build_accel("bvh8:packets=off", scene);
+    std::vector<Hit> a(rays.size()), c(rays.size());
+    BatchOptions hint;
+    hint.coherent = true;
+    on->intersect(rays, a, hint);
+    off->intersect(rays, c, hint);
+    for (size_t i = 0; i < rays.size(); ++i) ASSERT_EQ(a[i].t, c[i].t) << "ray " << i;
+}
+
+TEST(AccelBatch, SpansOfDifferentSizesAreAnError) {
+    const auto accel = build_accel("bvh", load_scene("cornell"));
+    std::vector<Ray> rays(3);
+    std::vector<Hit> hits(2);
+    std::vector<uint8_t> flags(4);
+    EXPECT_THROW(accel->intersect(rays, hits), Error);
+    EXPECT_THROW(accel->occluded(rays, flags), Error);
+}
+
+}  // namespace
+}  // namespace thicket
