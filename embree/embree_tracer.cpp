@@ -116,6 +116,8 @@ public:
         return f;
     }
 
+    bool hits_from_thicket_tests() const override { return false; }
+
     void trace(std::span<const Ray> rays, std::span<Hit> hits, unsigned threads, bool) const override {
         RTCScene scene = get();
         parallel_for(rays.size(), kGrain, threads, [&](size_t begin, size_t end) {

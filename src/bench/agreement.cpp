@@ -25,22 +25,24 @@ size_t reference_index(std::span<const uint32_t> index, size_t i, size_t referen
 
 }  // namespace
 
-bool hits_agree(const Hit& reference, const Hit& candidate) {
+bool hits_agree(const Hit& reference, const Hit& candidate, const TieCheck& tie_is_real, size_t ray) {
     if (reference.found() != candidate.found()) return false;
-    if (!reference.found() || reference.prim == candidate.prim) return true;
+    if (!reference.found()) return true;
     const double a = reference.t, b = candidate.t;
-    return std::fabs(a - b) <= kTieTolerance * std::max(std::fabs(a), std::fabs(b));
+    const double dt = std::fabs(a - b), scale = std::max(std::fabs(a), std::fabs(b));
+    if (reference.prim == candidate.prim) return dt <= kSamePrimitiveTolerance * scale;
+    return dt <= kTieTolerance * scale && (!tie_is_real || tie_is_real(ray, candidate));
 }
 
 Agreement compare_hits(std::span<const Hit> reference, std::span<const Hit> candidate,
-                       std::span<const uint32_t> index) {
+                       std::span<const uint32_t> index, const TieCheck& tie_is_real) {
     check_sizes(reference.size(), candidate.size(), index.size());
     Agreement a;
     a.rays = candidate.size();
     for (size_t i = 0; i < candidate.size(); ++i) {
         const Hit& ref = reference[reference_index(index, i, reference.size())];
         const Hit& c = candidate[i];
-        if (!hits_agree(ref, c)) {
+        if (!hits_agree(ref, c, tie_is_real, i)) {
             if (a.first_mismatch == std::numeric_limits<size_t>::max()) a.first_mismatch = i;
             continue;  // counted as a disagreement: its distance says nothing about precision
         }

@@ -184,4 +184,9 @@ std::string compare_with_reference(const Accel& accel, const Reference& ref, con
     return out.str();
 }
 
+bool sah_cost_explained(const AccelStats& stats) {
+    return std::any_of(stats.extra.begin(), stats.extra.end(),
+                       [](const auto& kv) { return kv.first == kSahUndefinedKey && !kv.second.empty(); });
+}
+
 }  // namespace thicket::testing

@@ -25,4 +25,7 @@ const Reference& reference_for(const std::string& key, const Scene& scene, const
 /// "" when it agrees everywhere, else a description of the first few disagreements.
 std::string compare_with_reference(const Accel& accel, const Reference& ref, const std::string& scene_name);
 
+/// Whether stats that leave sah_cost at 0 (undefined) say why under kSahUndefinedKey.
+bool sah_cost_explained(const AccelStats& stats);
+
 }  // namespace thicket::testing

@@ -110,5 +110,16 @@ TEST_F(AgreementRule, ARealTieIsAccepted) {
     EXPECT_FALSE(same_closest_hit(ghost, first, ray, probe));
 }
 
+
+TEST(SahExemption, OnlyTheNamedKeyExplainsAMissingSahCost) {
+    AccelStats s;
+    s.extra.emplace_back("builder SAH cost", "51.2");  // a figure that merely mentions the SAH
+    EXPECT_FALSE(sah_cost_explained(s));
+    s.extra.emplace_back(kSahUndefinedKey, "");
+    EXPECT_FALSE(sah_cost_explained(s)) << "an empty reason explains nothing";
+    s.extra.back().second = "oblique cells";
+    EXPECT_TRUE(sah_cost_explained(s));
+}
+
 }  // namespace
 }  // namespace thicket::testing

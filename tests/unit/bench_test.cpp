@@ -18,6 +18,7 @@
 #include "support/test_scenes.h"
 #include "thicket/accel/registry.h"
 #include "thicket/bench/agreement.h"
+#include "thicket/bench/primitive_probe.h"
 #include "thicket/bench/bench_json.h"
 #include "thicket/bench/bench_tables.h"
 #include "thicket/bench/ray_sets.h"
@@ -354,23 +355,39 @@ TEST(BenchAgreement, DeliberatelyWrongAnswersAreFlagged) {
     const size_t wrong_prim = hit_rays[0];
     candidate[wrong_prim].prim = (candidate[wrong_prim].prim + 1) % uint32_t(scene.primitive_count());
     candidate[wrong_prim].t *= 1.5f;
-    // The right primitive at a wrong distance: not a disagreement, but the t difference shows it.
+    // The right primitive a little farther (rounding of another triangle test): not a
+    // disagreement, but the t difference shows it.
     const size_t wrong_t = hit_rays[1];
-    candidate[wrong_t].t *= 1.01f;
+    candidate[wrong_t].t *= 1.0005f;
     a = compare_hits(reference, candidate);
     EXPECT_EQ(a.disagreeing(), 1u);
     EXPECT_EQ(a.first_mismatch, wrong_prim);
     EXPECT_LT(a.percent(), 100.0);
-    EXPECT_NEAR(a.max_dt_rel, 0.01 / 1.01, 1e-6);  // the disagreeing ray does not count here
+    EXPECT_NEAR(a.max_dt_rel, 0.0005 / 1.0005, 1e-6);  // the disagreeing ray does not count here
     candidate[wrong_prim] = reference[wrong_prim];
     a = compare_hits(reference, candidate);
     EXPECT_EQ(a.disagreeing(), 0u);
-    EXPECT_NEAR(a.max_dt_rel, 0.01 / 1.01, 1e-6);
     EXPECT_GT(a.max_dt, 0.0);
+    // The right primitive 1% away is a wrong answer, not rounding.
+    candidate[wrong_t].t = reference[wrong_t].t * 1.01f;
+    EXPECT_EQ(compare_hits(reference, candidate).first_mismatch, wrong_t);
+    candidate[wrong_t] = reference[wrong_t];
 
     // A hit reported as a miss.
     candidate[hit_rays[2]] = Hit{};
     EXPECT_EQ(compare_hits(reference, candidate).first_mismatch, hit_rays[2]);
+    candidate[hit_rays[2]] = reference[hit_rays[2]];
+
+    // Another primitive at the very same t (what a structure with permuted leaf ids reports): the
+    // distance alone would pass it; probing the named primitive flags it.
+    const PrimitiveProbe probe(scene, "moller");
+    const TieCheck tie_is_real = [&](size_t i, const Hit& h) {
+        return identical_hits(probe.hit(h.prim, primary.rays[i]), h);
+    };
+    EXPECT_EQ(compare_hits(reference, candidate, {}, tie_is_real).disagreeing(), 0u);
+    candidate[hit_rays[0]].prim = (reference[hit_rays[0]].prim + 1) % uint32_t(scene.primitive_count());
+    EXPECT_EQ(compare_hits(reference, candidate).disagreeing(), 0u) << "the distance-only rule cannot see it";
+    EXPECT_EQ(compare_hits(reference, candidate, {}, tie_is_real).first_mismatch, hit_rays[0]);
 
     // A tie: another primitive at the same distance (shared edge) is right.
     const Hit ref{2.0f, 0.1f, 0.2f, 5};

@@ -19,6 +19,10 @@
 
 namespace thicket {
 
+/// The AccelStats::extra key under which a structure that leaves sah_cost at 0 (undefined) says
+/// why; the conformance suite requires it whenever sah_cost is 0 for a scene with primitives.
+inline constexpr const char* kSahUndefinedKey = "SAH cost undefined";
+
 struct AccelStats {
     std::string spec;          ///< canonical spec string of the structure
     size_t primitives = 0;
@@ -27,7 +31,7 @@ struct AccelStats {
     size_t max_depth = 0;
     size_t bytes = 0;          ///< structure memory: nodes and index arrays, not the primitives
     size_t primitive_bytes = 0;///< memory of the primitive data the structure holds
-    double sah_cost = 0.0;     ///< with kSahTraversalCost, kSahIntersectionCost; 0 if undefined
+    double sah_cost = 0.0;     ///< with kSahTraversalCost, kSahIntersectionCost; 0 if undefined (see kSahUndefinedKey)
     double build_ms = 0.0;
     std::vector<std::pair<std::string, std::string>> extra;  ///< structure-specific figures
 };

@@ -52,6 +52,10 @@ public:
     virtual void trace(std::span<const Ray> rays, std::span<Hit> hits, unsigned threads, bool coherent) const = 0;
     /// Any hit: out[i] = 1 if anything lies within [tmin, tmax] of rays[i], else 0.
     virtual void occluded(std::span<const Ray> rays, std::span<uint8_t> out, unsigned threads) const = 0;
+    /// Whether its hits come from Thicket's own primitive tests, so that a hit on another
+    /// primitive than the reference's can be checked by probing that primitive alone
+    /// (PrimitiveProbe); false for other libraries, whose tests round differently.
+    virtual bool hits_from_thicket_tests() const { return true; }
     /// Untimed counting pass: adds the nodes visited and primitives tested for every ray to
     /// `total`. Returns false, leaving `total` alone, when the tracer cannot count.
     virtual bool count(std::span<const Ray> rays, bool any_hit, RayCounters& total, unsigned threads) const = 0;

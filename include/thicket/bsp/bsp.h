@@ -63,6 +63,7 @@ public:
         // compares with (252,057 against the BVH's 51 on the dragon): reported apart, not as one.
         if (sp.polygons) {
             s.sah_cost = 0.0;  // undefined (AccelStats): reported apart, below
+            s.extra.emplace_back(kSahUndefinedKey, "oblique cells: their boxes only bound them");
             s.extra.emplace_back("SAH cost over cell boxes (upper bound: oblique cells)", num(f.sah_cost, "%.2f"));
         }
         s.extra.emplace_back("planes", sp.polygons ? "triangles' own planes (autopartition)"
