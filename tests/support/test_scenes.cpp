@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -282,9 +283,21 @@ Vec3 random_unit_vector(std::mt19937& rng) {
     }
 }
 
+namespace {
+
+/// The configured directory, or THICKET_SHARED_SCENES from the environment when set (so a test can
+/// show what a checkout without ../shared does).
+std::string configured_shared_dir() {
+    const char* env = std::getenv("THICKET_SHARED_SCENES");
+    return env ? env : THICKET_SHARED_SCENES;
+}
+
+}  // namespace
+
 std::string shared_scene_dir() {
     std::error_code ec;
-    return std::filesystem::is_directory(THICKET_SHARED_SCENES, ec) ? std::string(THICKET_SHARED_SCENES) : "";
+    const std::string dir = configured_shared_dir();
+    return std::filesystem::is_directory(dir, ec) ? dir : "";
 }
 
 std::vector<std::string> shared_scene_files() {
@@ -300,7 +313,7 @@ std::vector<std::string> shared_scene_files() {
 }
 
 std::string shared_scenes_missing_message() {
-    return std::string("shared scenes not found at ") + THICKET_SHARED_SCENES +
+    return std::string("shared scenes not found at ") + configured_shared_dir() +
            " (expected ../shared/scenes beside the checkout); real-scene tests skipped";
 }
 
