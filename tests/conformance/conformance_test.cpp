@@ -11,6 +11,7 @@
 #include <fstream>
 #include <unistd.h>
 
+#include "support/double_reference.h"
 #include "support/reference.h"
 #include "support/test_scenes.h"
 #include "thicket/accel/registry.h"
@@ -93,6 +94,19 @@ protected:
         const std::string mismatch = compare_with_reference(*accel, ref, scene.name);
         EXPECT_EQ(mismatch, "");
         check_bounds(*accel, scene);
+        check_filter(scene, ref);
+    }
+
+    /// Brute force against the independent double-precision reference (no filter): every
+    /// difference must be an ill-conditioned hit, the filter's rejections included.
+    void check_filter(const Scene& scene, const Reference& ref) const {
+        if (scene.has_shapes() || parse_accel_spec(GetParam()).name != "brute") return;
+        const FilterCheck c = check_against_double_reference(scene, isect(), ref.rays, ref.hits);
+        std::printf("[ filter   ] %s (%s): %zu rays, %zu agree with double precision, %zu differ on "
+                    "ill-conditioned hits (%zu of them dropped by the filter), %zu unexplained\n",
+                    scene.name.c_str(), isect().c_str(), c.rays, c.agree, c.ill_conditioned, c.filter_rejections,
+                    c.unexplained);
+        EXPECT_EQ(c.unexplained, 0u) << "first: " << c.first_unexplained;
     }
 
     static void check_bounds(const Accel& accel, const Scene& scene) {
@@ -132,6 +146,9 @@ TEST_P(Conformance, SharedScenes) {
             const Reference& ref = reference_for(file, scene, isect(), shared_scene_rays(scene));
             for (size_t i = 0; i < ref.rays.size(); ++i)
                 ASSERT_EQ(bool(ref.occluded[i]), ref.hits[i].found()) << "ray " << i;
+#ifndef THICKET_SANITIZED  // as costly as brute force itself: the Release job's
+            if (isect() == "moller") check_filter(scene, ref);
+#endif
             continue;
         }
         check_scene(scene, file, shared_scene_rays(scene));
