@@ -1,6 +1,8 @@
 // Accel's batch queries: one parallel loop for every structure; what a thread does with its share
 // is the structure's (intersect_chunk / occluded_chunk).
+#include <cmath>
 #include <string>
+#include <vector>
 
 #include "thicket/accel/accel.h"
 #include "thicket/core/error.h"
@@ -30,6 +32,69 @@ void Accel::occluded(std::span<const Ray> rays, std::span<uint8_t> out, const Ba
     check_sizes("any-hit", rays.size(), out.size());
     parallel_for(rays.size(), kBatchGrain, options.threads, [&](size_t begin, size_t end) {
         occluded_chunk(rays.subspan(begin, end - begin), out.subspan(begin, end - begin), options.coherent);
+        if (options.progress) options.progress(end - begin);
+    });
+}
+
+void Accel::all_hits(const Ray& ray, std::vector<Hit>& out) const {
+    Ray rest = ray;
+    for (;;) {
+        const Hit hit = intersect(rest);
+        if (!hit.found()) return;
+        out.push_back(hit);
+        // Past every hit of this crossing: neighbours at a shared edge answer the same t, or a
+        // few ulps apart (kSameCrossing). The interval must shrink, or a structure answering a
+        // hit before tmin would loop forever; a t that cannot grow (inf) ends the ray.
+        const float next = next_crossing_t(hit.t);
+        if (!(next > rest.tmin) || !(next <= rest.tmax) || !std::isfinite(next)) return;
+        rest.tmin = next;
+    }
+}
+
+uint32_t Accel::count_hits(const Ray& ray) const {
+    std::vector<Hit> hits;
+    all_hits(ray, hits);
+    return uint32_t(hits.size());
+}
+
+NearestPoint Accel::closest_point(const Vec3&) const {
+    throw Error(spec_ + ": closest-point queries are answered by brute and bvh over triangles only");
+}
+
+void Accel::count_hits(std::span<const Ray> rays, std::span<uint32_t> counts, const BatchOptions& options) const {
+    check_sizes("count", rays.size(), counts.size());
+    parallel_for(rays.size(), kBatchGrain, options.threads, [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) counts[i] = count_hits(rays[i]);
+        if (options.progress) options.progress(end - begin);
+    });
+}
+
+HitLists Accel::all_hits(std::span<const Ray> rays, const BatchOptions& options) const {
+    // Each chunk collects its rays' hits apart; the chunks are then laid end to end in ray order.
+    const size_t chunks = (rays.size() + kBatchGrain - 1) / kBatchGrain;
+    std::vector<std::vector<Hit>> chunk_hits(chunks);
+    HitLists lists;
+    lists.splits.assign(rays.size() + 1, 0);
+    parallel_for(rays.size(), kBatchGrain, options.threads, [&](size_t begin, size_t end) {
+        std::vector<Hit>& mine = chunk_hits[begin / kBatchGrain];
+        for (size_t i = begin; i < end; ++i) {
+            const size_t before = mine.size();
+            all_hits(rays[i], mine);
+            lists.splits[i + 1] = mine.size() - before;  // a count for now, a prefix sum below
+        }
+        if (options.progress) options.progress(end - begin);
+    });
+    for (size_t i = 0; i < rays.size(); ++i) lists.splits[i + 1] += lists.splits[i];
+    lists.hits.reserve(lists.splits.back());
+    for (const std::vector<Hit>& c : chunk_hits) lists.hits.insert(lists.hits.end(), c.begin(), c.end());
+    return lists;
+}
+
+void Accel::closest_points(std::span<const Vec3> points, std::span<NearestPoint> out,
+                           const BatchOptions& options) const {
+    check_sizes("closest-point", points.size(), out.size());
+    parallel_for(points.size(), kBatchGrain, options.threads, [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) out[i] = closest_point(points[i]);
         if (options.progress) options.progress(end - begin);
     });
 }

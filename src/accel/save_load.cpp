@@ -44,7 +44,7 @@ void save_accel(const Accel& accel, const Scene& scene, const std::string& path)
     const std::string tmp = path + ".tmp-thicket";
     {
         std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        if (!out) throw Error(path + ": cannot open for writing");
+        if (!out) throw FileError(path + ": cannot open for writing");
         out.write(kMagic, sizeof kMagic);
         put(out, kFormatVersion);
         put(out, kByteOrderMark);
@@ -73,7 +73,7 @@ void save_accel(const Accel& accel, const Scene& scene, const std::string& path)
 std::unique_ptr<Accel> load_accel(const std::string& path, const Scene& scene) {
     const auto start = std::chrono::steady_clock::now();
     std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(path + ": cannot open saved structure (no such file or not readable)");
+    if (!in) throw FileError(path + ": cannot open saved structure (no such file or not readable)");
     char magic[8] = {};
     if (!in.read(magic, sizeof magic) || std::memcmp(magic, kMagic, sizeof kMagic) != 0)
         throw Error(path + ": not a thicket structure file (bad magic; write one with `thicket build`)");

@@ -333,8 +333,8 @@ bool has_extension(const std::string& path, const char* ext) {
 /// triangle per TRIANGLES/STRIP/FAN triangle in traversal order. Throws thicket::Error.
 TriangleMesh load_gltf(const std::string& path) {
     std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, not a glTF file");
-    if (!std::filesystem::exists(path, ec)) throw Error(path + ": no such file");
+    if (std::filesystem::is_directory(path, ec)) throw FileError(path + ": is a directory, not a glTF file");
+    if (!std::filesystem::exists(path, ec)) throw FileError(path + ": no such file");
 
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(&ignore_image, nullptr);

@@ -265,7 +265,7 @@ json parse_checked(const std::string& text, const std::string& file) {
 Scene load_json_scene(const std::string& path) {
     using namespace json_scene;
     std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(path + ": cannot open");
+    if (!in) throw FileError(path + ": cannot open");
     std::ostringstream text;
     text << in.rdbuf();
     if (in.bad()) throw Error(path + ": read error");

@@ -53,7 +53,7 @@ Material convert(const tinyobj::material_t& m) {
 /// file order. Throws thicket::Error("<path>: ...") when the file cannot be read or parsed.
 TriangleMesh load_obj(const std::string& path) {
     std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, not an OBJ file");
+    if (std::filesystem::is_directory(path, ec)) throw FileError(path + ": is a directory, not an OBJ file");
 
     tinyobj::ObjReaderConfig config;
     config.triangulate = false;

@@ -87,7 +87,7 @@ FileBytes read_whole_file(const std::string& path) {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, not a PLY file");
     std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
-    if (!f) throw Error(path + ": cannot open: " + std::strerror(errno));
+    if (!f) throw FileError(path + ": cannot open: " + std::strerror(errno));
     const auto expected = std::filesystem::file_size(path, ec);
     size_t capacity = ec ? size_t(1) << 16 : size_t(expected) + 1;
     FileBytes out{std::unique_ptr<unsigned char[]>(new unsigned char[capacity]), 0};

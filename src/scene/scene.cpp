@@ -171,8 +171,8 @@ Scene load_scene(const std::string& path_or_builtin) {
     namespace fs = std::filesystem;
     std::error_code ec;
     const fs::file_status st = fs::status(path, ec);
-    if (!fs::exists(st)) throw Error(path + ": no such file");
-    if (fs::is_directory(st)) throw Error(path + ": is a directory, not a scene file");
+    if (!fs::exists(st)) throw FileError(path + ": no such file");
+    if (fs::is_directory(st)) throw FileError(path + ": is a directory, not a scene file");
 
     const std::string ext = lower_extension(path);
     if (ext == ".json") {

@@ -41,19 +41,19 @@ void write_atomically(const std::string& path, const std::function<void(const st
     if (std::rename(temp.c_str(), path.c_str()) != 0) {
         const int err = errno;
         std::remove(temp.c_str());
-        throw Error(path + ": cannot write: " + std::strerror(err));
+        throw FileError(path + ": cannot write: " + std::strerror(err));
     }
 }
 
 void write_file_atomically(const std::string& path, std::string_view bytes) {
     write_atomically(path, [&](const std::string& temp) {
         std::FILE* f = std::fopen(temp.c_str(), "wb");
-        if (!f) throw Error(path + ": cannot write: " + std::strerror(errno));
+        if (!f) throw FileError(path + ": cannot write: " + std::strerror(errno));
         const bool ok = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
         const int write_err = errno;
         // fclose flushes: a full disk may only show up here.
         const bool closed = std::fclose(f) == 0;
-        if (!ok || !closed) throw Error(path + ": cannot write: " + std::strerror(ok ? errno : write_err));
+        if (!ok || !closed) throw FileError(path + ": cannot write: " + std::strerror(ok ? errno : write_err));
     });
 }
 

@@ -171,7 +171,7 @@ std::string descr_repr(const NpyHeader& h) {
 NpyHeader open_array(const std::string& path, std::ifstream& in, size_t item_size) {
     NpyHeader h = read_npy_header(path);
     in.open(path, std::ios::binary);
-    if (!in) throw Error(path + ": cannot open: " + std::strerror(errno));
+    if (!in) throw FileError(path + ": cannot open: " + std::strerror(errno));
     in.seekg(0, std::ios::end);
     const auto file_size = static_cast<unsigned long long>(in.tellg());
     const size_t count = h.element_count();
@@ -216,11 +216,11 @@ void write_array(const std::string& path, NpyHeader h, const void* data, size_t 
 
     write_atomically(path, [&](const std::string& temp) {
         std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-        if (!out) throw Error(path + ": cannot write: " + std::strerror(errno));
+        if (!out) throw FileError(path + ": cannot write: " + std::strerror(errno));
         out.write(head.data(), std::streamsize(head.size()));
         out.write(static_cast<const char*>(data), std::streamsize(bytes));
         out.close();
-        if (!out) throw Error(path + ": cannot write: " + std::strerror(errno));
+        if (!out) throw FileError(path + ": cannot write: " + std::strerror(errno));
     });
 }
 
@@ -235,7 +235,7 @@ size_t NpyHeader::element_count() const {
 
 NpyHeader read_npy_header(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(path + ": cannot open: " + std::strerror(errno));
+    if (!in) throw FileError(path + ": cannot open: " + std::strerror(errno));
     unsigned char pre[12] = {};
     in.read(reinterpret_cast<char*>(pre), 10);
     if (in.gcount() < 10 || std::memcmp(pre, kMagic, kMagicSize) != 0)
@@ -393,6 +393,21 @@ void write_npy_u8(const std::string& path, std::span<const uint8_t> values) {
     h.descr = "|u1";
     h.shape = {values.size()};
     write_array(path, h, values.data(), values.size());
+}
+
+void write_npy_u32(const std::string& path, std::span<const uint32_t> values) {
+    NpyHeader h;
+    h.descr = "<u4";
+    h.shape = {values.size()};
+    write_array(path, h, values.data(), values.size_bytes());
+}
+
+void write_npy_records(const std::string& path, const std::vector<std::pair<std::string, std::string>>& fields,
+                       size_t count, std::span<const unsigned char> records) {
+    NpyHeader h;
+    h.fields = fields;
+    h.shape = {count};
+    write_array(path, h, records.data(), records.size());
 }
 
 void write_npy_hits(const std::string& path, std::span<const Hit> hits) {

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 
 #include "common.h"
 #include "thicket/core/error.h"
@@ -20,11 +21,47 @@ struct TraceArgs {
     std::string rays;
     std::string output;
     bool any_hit = false;
+    bool count = false;
+    bool all = false;
     bool coherent = false;
     unsigned threads = 0;
 };
 
+/// --count and --all: every surface crossing of each valid ray (Accel::all_hits), invalid rows
+/// counted as 0 crossings. --all writes records (ray, t, prim, u, v), by ray then t.
+void write_crossings(const TraceArgs& args, const Accel& accel, const std::vector<Ray>& valid,
+                     const std::vector<size_t>& row_of, size_t n, const BatchOptions& batch) {
+    const auto start = std::chrono::steady_clock::now();
+    if (args.count) {
+        std::vector<uint32_t> valid_counts(valid.size()), counts(n, 0);
+        accel.count_hits(valid, valid_counts, batch);
+        size_t total = 0;
+        for (size_t k = 0; k < valid.size(); ++k) counts[row_of[k]] = valid_counts[k], total += valid_counts[k];
+        std::printf("count   %zu crossings of %zu rays in %s\n", total, n, format_duration(ms_since(start) / 1000).c_str());
+        write_npy_u32(args.output, counts);
+        return;
+    }
+    const HitLists lists = accel.all_hits(valid, batch);
+    std::vector<unsigned char> records(lists.hits.size() * 20);
+    for (size_t k = 0; k < valid.size(); ++k)
+        for (size_t j = lists.splits[k]; j < lists.splits[k + 1]; ++j) {
+            const Hit& h = lists.hits[j];
+            const uint32_t ray = uint32_t(row_of[k]);
+            unsigned char* r = records.data() + 20 * j;
+            std::memcpy(r, &ray, 4);
+            std::memcpy(r + 4, &h.t, 4);
+            std::memcpy(r + 8, &h.prim, 4);
+            std::memcpy(r + 12, &h.u, 4);
+            std::memcpy(r + 16, &h.v, 4);
+        }
+    std::printf("all     %zu crossings of %zu rays in %s\n", lists.hits.size(), n,
+                format_duration(ms_since(start) / 1000).c_str());
+    write_npy_records(args.output, {{"ray", "<u4"}, {"t", "<f4"}, {"prim", "<u4"}, {"u", "<f4"}, {"v", "<f4"}},
+                      lists.hits.size(), records);
+}
+
 int run_trace(const TraceArgs& args) {
+    if (args.any_hit + args.count + args.all > 1) throw Error("trace: choose one of --any-hit, --count and --all");
     const std::optional<AccelSpec> spec = validate_accel_choice(args.accel);
     const NpyFloatArray rays = read_npy_matrix(args.rays, 8);
     const size_t n = rays.shape[0];
@@ -44,6 +81,14 @@ int run_trace(const TraceArgs& args) {
         row_of.push_back(i);
     }
     const size_t invalid = n - valid.size();
+    if ((args.count || args.all) && n > UINT32_MAX) throw Error(args.rays + ": more than 2^32 - 1 rays for --count or --all");
+    if (args.count || args.all) {
+        BatchOptions batch;
+        batch.threads = args.threads;
+        write_crossings(args, *accel, valid, row_of, n, batch);
+        std::printf("wrote   %s\n", args.output.c_str());
+        return 0;
+    }
 
     std::vector<Hit> hits(args.any_hit ? 0 : n);
     std::vector<uint8_t> occluded(args.any_hit ? n : 0);
@@ -97,7 +142,11 @@ Command add_trace_command(CLI::App& app) {
                 "an infinite origin or direction component, a zero direction or tmin > tmax is answered as a "
                 "miss.\nOutput: a structured array of shape (N,) with fields t (float32, +inf on a miss), prim "
                 "(uint32, 4294967295 on a miss), u, v (float32 barycentrics of vertices 1 and 2); with --any-hit "
-                "a uint8 array of shape (N,), 1 where something lies within [tmin, tmax].");
+                "a uint8 array of shape (N,), 1 where something lies within [tmin, tmax]. With --count a uint32 "
+                "array of shape (N,): the number of surface crossings within [tmin, tmax] (a crossing through an "
+                "edge or vertex that several triangles share counts once). With --all a structured array of shape "
+                "(M,), one record per crossing, by ray then t: ray (uint32 row), t (float32), prim (uint32), u, v "
+                "(float32).");
     add_scene_argument(cmd, args->scene);
     add_accel_options(cmd, args->accel);
     cmd->add_option("-r,--rays", args->rays, "rays to trace: .npy float array of shape (N, 8)")
@@ -107,6 +156,8 @@ Command add_trace_command(CLI::App& app) {
         ->required()
         ->type_name("FILE");
     cmd->add_flag("--any-hit", args->any_hit, "only ask whether each ray is blocked (faster), write a uint8 array");
+    cmd->add_flag("--count", args->count, "count every surface crossing of each ray, write a uint32 array");
+    cmd->add_flag("--all", args->all, "list every surface crossing of each ray, write (ray, t, prim, u, v) records");
     cmd->add_flag("--coherent", args->coherent,
                   "a hint that consecutive rays are neighbours (a camera's pixels in 4x4 tiles, or along a row): "
                   "structures with a packet path (bvh8) then trace 16 at a time; the answers are the same");

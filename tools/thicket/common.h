@@ -22,6 +22,7 @@ struct Command {
 
 Command add_render_command(CLI::App& app);
 Command add_trace_command(CLI::App& app);
+Command add_closest_command(CLI::App& app);
 Command add_info_command(CLI::App& app);
 Command add_build_command(CLI::App& app);
 Command add_accels_command(CLI::App& app);

@@ -2,6 +2,7 @@
 /// The one interface every acceleration structure implements: bounds, closest hit, any hit,
 /// statistics. Structures are interchangeable behind it; the per-ray virtual call is the only
 /// indirection (never per node). For the last few percent, use a structure's class directly.
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "thicket/core/aabb.h"
+#include "thicket/core/closest_point.h"
 #include "thicket/core/ray.h"
 #include "thicket/core/sah.h"
 #include "thicket/core/tree_figures.h"
@@ -47,6 +49,22 @@ struct BatchOptions {
     std::function<void(size_t)> progress;
 };
 
+/// Two hits of one ray whose t differ by at most this much relative are one surface crossing
+/// (all_hits, count_hits): a ray through an edge or vertex shared by several triangles of a closed
+/// mesh hits each of them at the same t, up to the triangle test's rounding, and crosses once.
+/// The same tolerance as the conformance suite's "another primitive hit at the same t".
+inline constexpr float kSameCrossing = 1e-5f;
+
+/// The smallest t after `t` that starts a new crossing.
+inline float next_crossing_t(float t) { return std::nextafter(t + kSameCrossing * std::fabs(t), kInfinity); }
+
+/// Every crossing of each ray of a batch: the hits of rays[i] are hits[splits[i] .. splits[i+1]),
+/// sorted by t (Open3D's ray_splits layout; splits has one entry more than there are rays).
+struct HitLists {
+    std::vector<size_t> splits;
+    std::vector<Hit> hits;
+};
+
 /// Rays per unit of work in a batch: a multiple of every packet size, small enough that a slow
 /// region of the image does not leave one thread working alone at the end.
 inline constexpr size_t kBatchGrain = 256;
@@ -71,6 +89,24 @@ public:
     void intersect(std::span<const Ray> rays, std::span<Hit> hits, const BatchOptions& options = {}) const;
     /// Any hit of every ray: occluded[i] is 1 if occluded(rays[i]), else 0.
     void occluded(std::span<const Ray> rays, std::span<uint8_t> occluded, const BatchOptions& options = {}) const;
+
+    /// Every surface crossing within [ray.tmin, ray.tmax], sorted by t, appended to `out`. Hits
+    /// within kSameCrossing relative t of the last crossing kept are the same crossing (a shared
+    /// edge or vertex) and are left out, so parity tells inside from outside. The default asks
+    /// intersect() again from just past each crossing; brute force enumerates every primitive.
+    virtual void all_hits(const Ray& ray, std::vector<Hit>& out) const;
+    /// The number of crossings all_hits() lists.
+    virtual uint32_t count_hits(const Ray& ray) const;
+    /// The closest point of the surface to `p`. The default throws Error: it needs the primitives'
+    /// geometry, which brute force and the BVH (`bvh`) answer for triangle scenes.
+    virtual NearestPoint closest_point(const Vec3& p) const;
+    /// Whether closest_point() answers for this structure and scene.
+    virtual bool has_closest_point() const { return false; }
+
+    /// Batch forms of the three, on options.threads threads (coherent is ignored).
+    void count_hits(std::span<const Ray> rays, std::span<uint32_t> counts, const BatchOptions& options = {}) const;
+    HitLists all_hits(std::span<const Ray> rays, const BatchOptions& options = {}) const;
+    void closest_points(std::span<const Vec3> points, std::span<NearestPoint> out, const BatchOptions& options = {}) const;
 
     /// Writes the structure's payload (save_accel() adds the checked header); throws Error if
     /// the structure cannot be saved.

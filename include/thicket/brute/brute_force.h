@@ -1,5 +1,8 @@
 #pragma once
 /// The brute-force reference: tests every primitive. Every other structure is checked against it.
+#include <algorithm>
+#include <vector>
+
 #include "thicket/accel/accel.h"
 #include "thicket/prims/primitive_set.h"
 
@@ -32,6 +35,46 @@ public:
         }
         return false;
     }
+
+    using Accel::all_hits;  // the batch form stays visible next to the per-ray override
+
+    /// The reference of all_hits: every root of every primitive (a primitive asked again from just
+    /// past each of its roots, as a sphere has two), sorted by t, then merged into crossings by
+    /// the rule the default implementation follows (Accel::all_hits, kSameCrossing).
+    void all_hits(const Ray& ray, std::vector<Hit>& out) const override {
+        std::vector<Hit> roots;
+        for (uint32_t i = 0, n = uint32_t(prims_.size()); i < n; ++i) {
+            Ray rest = ray;
+            for (;;) {
+                Hit hit = miss_for(rest);
+                if (!prims_.intersect(i, rest, hit)) break;
+                roots.push_back(hit);
+                const float next = next_crossing_t(hit.t);  // as Accel::all_hits steps
+                if (!(next > rest.tmin) || !(next <= rest.tmax) || !std::isfinite(next)) break;
+                rest.tmin = next;
+            }
+        }
+        std::sort(roots.begin(), roots.end(),
+                  [](const Hit& a, const Hit& b) { return a.t < b.t || (a.t == b.t && a.prim < b.prim); });
+        const size_t first = out.size();  // `out` may already hold other rays' hits
+        for (const Hit& hit : roots)
+            if (out.size() == first || hit.t >= next_crossing_t(out.back().t)) out.push_back(hit);
+    }
+
+    /// The reference of closest_point: every primitive, the lowest id among equally close ones.
+    NearestPoint closest_point(const Vec3& p) const override {
+        if constexpr (HasClosestPoint<Prims>) {
+            NearestPoint best;
+            for (uint32_t i = 0, n = uint32_t(prims_.size()); i < n; ++i) {
+                const NearestPoint s = prims_.closest_point(i, p);
+                if (s.distance < best.distance) best = s;
+            }
+            return best;
+        } else {
+            return Accel::closest_point(p);  // shapes: refused with the reason
+        }
+    }
+    bool has_closest_point() const override { return HasClosestPoint<Prims>; }
 
     AccelStats stats() const override {
         AccelStats s = this->base_stats();

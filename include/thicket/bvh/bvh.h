@@ -5,6 +5,7 @@
 
 #include "thicket/accel/accel.h"
 #include "thicket/bvh/build.h"
+#include "thicket/bvh/closest_point.h"
 #include "thicket/bvh/traversal.h"
 
 namespace thicket {
@@ -40,6 +41,14 @@ public:
     bool any(const Ray& ray, C& counters) const {
         return any_hit<bvh_detail::Query>(data_, prims_, ray, counters, traversal_);
     }
+
+    NearestPoint closest_point(const Vec3& p) const override {
+        if constexpr (HasClosestPoint<Prims>)
+            return bvh_closest_point(data_, prims_, p);
+        else
+            return Accel::closest_point(p);  // shapes: refused with the reason
+    }
+    bool has_closest_point() const override { return HasClosestPoint<Prims>; }
 
     AccelStats stats() const override {
         const BvhFigures f = bvh_figures(data_);

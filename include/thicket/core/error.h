@@ -10,4 +10,11 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+/// An Error about reaching a file (missing, a directory, unreadable, unwritable), as opposed to its
+/// contents: bindings map it to their I/O error (Python's OSError), the CLI treats it like any Error.
+class FileError : public Error {
+public:
+    using Error::Error;
+};
+
 }  // namespace thicket

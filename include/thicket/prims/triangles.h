@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "thicket/core/aabb.h"
+#include "thicket/core/closest_point.h"
 #include "thicket/core/ray_box.h"
 #include "thicket/core/triangle.h"
 #include "thicket/prims/clip.h"
@@ -49,6 +50,13 @@ public:
             return false;
         hit = {th.t, th.u, th.v, i};
         return true;
+    }
+    /// The closest point of triangle i to p (degenerate triangles too: they have no interior for
+    /// rays to hit, but their points are still on the surface).
+    NearestPoint closest_point(uint32_t i, const Vec3& p) const {
+        const Tri& tri = tris_[i];
+        const TrianglePoint q = closest_point_on_triangle(p, tri.v0, tri.v1, tri.v2);
+        return {q.point, length(p - q.point), q.u, q.v, i};
     }
     /// Any-hit: is primitive i hit within [ray.tmin, ray.tmax]?
     bool occludes(uint32_t i, const Ray& ray) const {

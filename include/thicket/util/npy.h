@@ -52,6 +52,12 @@ inline constexpr const char* kNpyHitsDescr = "[('t', '<f4'), ('prim', '<u4'), ('
 void write_npy_f32(const std::string& path, const std::vector<size_t>& shape, std::span<const float> values);
 /// Writes a uint8 array of shape (N,).
 void write_npy_u8(const std::string& path, std::span<const uint8_t> values);
+/// Writes a uint32 array of shape (N,).
+void write_npy_u32(const std::string& path, std::span<const uint32_t> values);
+/// Writes a structured array of shape (N,) whose record is `fields` (name, type such as "<f4"),
+/// packed without padding: `records` holds N records of the fields' summed size.
+void write_npy_records(const std::string& path, const std::vector<std::pair<std::string, std::string>>& fields,
+                       size_t count, std::span<const unsigned char> records);
 /// Writes hits as the structured dtype kNpyHitsDescr, shape (N,): 16 bytes per record.
 void write_npy_hits(const std::string& path, std::span<const Hit> hits);
 /// Every writer goes through a temporary file and a rename (no partial file on failure), uses

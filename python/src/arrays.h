@@ -1,0 +1,62 @@
+#pragma once
+// numpy arrays in and out of the module: shape and dtype checks that name what was received, the
+// conversion of ray rows to thicket::Ray, and output arrays that keep the input's leading shape.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "thicket/core/ray.h"
+
+namespace thicket::python {
+
+namespace py = pybind11;
+
+/// A C-contiguous float32 array of rows: `lead` is its shape without the last axis, `width` the
+/// last axis, `count` the number of rows (the product of `lead`). Holding `array` keeps `data` valid.
+struct Rows {
+    py::array array;
+    std::vector<py::ssize_t> lead;
+    size_t width = 0;
+    size_t count = 0;
+    const float* data() const { return static_cast<const float*>(array.data()); }
+};
+
+/// "(3, 7)": a shape as Python prints it.
+std::string shape_text(const py::array& a);
+
+/// `obj` as rows of float32 whose last axis is one of `widths`; anything else is a ValueError
+/// naming `what`, the shape and dtype received and what is expected. Never converts dtypes
+/// silently (a float64 array is refused, as Open3D does): the caller says .astype(np.float32).
+/// Copies only when the array is not C-contiguous.
+Rows float32_rows(const py::handle& obj, const char* what, std::initializer_list<size_t> widths);
+
+/// Rays made from rows of 6 (ox oy oz dx dy dz, interval [tnear, tfar]) or 8 floats (the interval in
+/// the row). Rows without meaning (make_ray() refuses them) are left out and answered as misses:
+/// then `compacted` is set and `rows` lists the row of each ray.
+struct RayBatch {
+    std::vector<Ray> rays;
+    std::vector<size_t> rows;
+    bool compacted = false;
+    size_t row_of(size_t k) const { return compacted ? rows[k] : k; }
+};
+
+/// Converts `rows` on `threads` threads; call without the GIL.
+RayBatch make_rays(const Rows& rows, float tnear, float tfar, unsigned threads);
+
+/// tnear/tfar of the 6-column form; with 8 columns the row holds the interval and giving them too
+/// is a ValueError (which one would win is not obvious).
+void check_interval_arguments(const Rows& rows, std::optional<float> tnear, std::optional<float> tfar);
+
+/// A new C-contiguous array of shape lead + tail.
+template <class T>
+py::array_t<T> new_array(const std::vector<py::ssize_t>& lead, std::initializer_list<py::ssize_t> tail = {}) {
+    std::vector<py::ssize_t> shape = lead;
+    shape.insert(shape.end(), tail.begin(), tail.end());
+    return py::array_t<T>(shape);
+}
+
+}  // namespace thicket::python

@@ -1,0 +1,199 @@
+// thicket._thicket: scenes, structures and their queries for Python. The pure Python package
+// (python/thicket/__init__.py) re-exports it; thicket.dask builds on it.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <string>
+
+#include "arrays.h"
+#include "queries.h"
+#include "thicket/accel/registry.h"
+#include "thicket/core/error.h"
+
+namespace py = pybind11;
+using namespace py::literals;
+
+namespace thicket::python {
+
+namespace {
+
+/// str or os.PathLike, as open() takes them.
+std::string path_argument(const py::object& path) {
+    return py::str(py::module_::import("os").attr("fspath")(path)).cast<std::string>();
+}
+
+/// A scene from numpy vertices (V, 3) of any float dtype and triangles (T, 3) of any integer dtype;
+/// every index is checked against V, every coordinate must be finite.
+std::shared_ptr<Scene> scene_from_arrays(const py::array& vertices, const py::array& triangles) {
+    if (vertices.ndim() != 2 || vertices.shape(1) != 3 || vertices.dtype().kind() != 'f')
+        throw py::value_error("vertices: expected a float array of shape (V, 3), got shape " + shape_text(vertices) +
+                              " " + std::string(py::str(vertices.dtype())));
+    if (triangles.ndim() != 2 || triangles.shape(1) != 3 ||
+        (triangles.dtype().kind() != 'i' && triangles.dtype().kind() != 'u'))
+        throw py::value_error("triangles: expected an integer array of shape (T, 3), got shape " +
+                              shape_text(triangles) + " " + std::string(py::str(triangles.dtype())));
+    const auto v = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(vertices);
+    const auto f = py::array_t<int64_t, py::array::c_style | py::array::forcecast>::ensure(triangles);
+    if (!v || !f) throw py::error_already_set();
+    TriangleMesh mesh;
+    const size_t nv = size_t(v.shape(0));
+    mesh.positions.reserve(nv);
+    for (size_t i = 0; i < nv; ++i) {
+        const double* p = v.data() + 3 * i;
+        if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+            throw py::value_error("vertices: row " + std::to_string(i) + " is not finite");
+        mesh.positions.push_back({float(p[0]), float(p[1]), float(p[2])});
+    }
+    const size_t n = size_t(f.size());
+    mesh.indices.reserve(n);
+    for (size_t i = 0; i < n; ++i) {
+        const int64_t index = f.data()[i];
+        if (index < 0 || uint64_t(index) >= nv)
+            throw py::value_error("triangles: row " + std::to_string(i / 3) + " has vertex index " +
+                                  std::to_string(index) + ", outside 0.." + std::to_string(int64_t(nv) - 1));
+        mesh.indices.push_back(uint32_t(index));
+    }
+    auto scene = std::make_shared<Scene>();
+    scene->name = "<arrays>";
+    scene->add_mesh(mesh);
+    return scene;
+}
+
+py::dict stats_dict(const AccelStats& s) {
+    py::dict extra;
+    for (const auto& [key, value] : s.extra) extra[py::str(key)] = value;
+    return py::dict("spec"_a = s.spec, "primitives"_a = s.primitives, "nodes"_a = s.nodes, "leaves"_a = s.leaves,
+                    "max_depth"_a = s.max_depth, "bytes"_a = s.bytes, "primitive_bytes"_a = s.primitive_bytes,
+                    "sah_cost"_a = s.sah_cost, "build_ms"_a = s.build_ms, "extra"_a = extra);
+}
+
+py::list accels_list() {
+    py::list out;
+    for (const AccelInfo& info : accel_registry()) {
+        py::list options;
+        for (const OptionInfo& o : info.options) {
+            py::dict d("key"_a = o.key, "help"_a = o.help, "default"_a = o.default_value);
+            if (o.choices.empty()) {
+                d["min"] = o.min;
+                d["max"] = o.max;
+            } else {
+                d["choices"] = o.choices;
+            }
+            options.append(d);
+        }
+        out.append(py::dict("name"_a = info.name, "summary"_a = info.summary,
+                            "partitioning"_a = partitioning_name(info.partitioning), "options"_a = options,
+                            "variants"_a = info.variants, "can_load"_a = bool(info.load)));
+    }
+    return out;
+}
+
+py::tuple bounds_tuple(const Aabb& b) {
+    return py::make_tuple(py::make_tuple(b.min.x, b.min.y, b.min.z), py::make_tuple(b.max.x, b.max.y, b.max.z));
+}
+
+}  // namespace
+
+}  // namespace thicket::python
+
+PYBIND11_MODULE(_thicket, m) {
+    using namespace thicket;
+    using namespace thicket::python;
+    m.doc() = "Thicket's scenes, acceleration structures and batch queries (see the thicket package)";
+
+    // thicket::Error -> thicket.Error (a RuntimeError); its FileError (a file missing, unreadable or
+    // unwritable) -> OSError. Translators run last-registered first, so FileError is seen first.
+    static py::exception<Error> error(m, "Error", PyExc_RuntimeError);
+    py::register_exception_translator([](std::exception_ptr p) {
+        try {
+            if (p) std::rethrow_exception(p);
+        } catch (const FileError& e) {
+            PyErr_SetString(PyExc_OSError, e.what());
+        } catch (const Error& e) {
+            error(e.what());
+        }
+    });
+
+    py::class_<Scene, std::shared_ptr<Scene>>(m, "Scene",
+        "Triangles and shapes that structures are built over: Scene(vertices (V,3), triangles (T,3)) or load_scene(path)")
+        .def(py::init(&scene_from_arrays), "vertices"_a, "triangles"_a)
+        .def_readonly("name", &Scene::name)
+        .def_property_readonly("primitive_count", &Scene::primitive_count)
+        .def_property_readonly("triangle_count", [](const Scene& s) { return s.mesh.triangle_count(); })
+        .def_property_readonly("shape_count", [](const Scene& s) { return s.shapes.size(); })
+        .def_property_readonly("bounds", [](const Scene& s) { return bounds_tuple(s.bounds()); })
+        .def_property_readonly("vertices", [](const Scene& s) {
+            auto a = new_array<float>({py::ssize_t(s.mesh.positions.size())}, {3});
+            std::memcpy(a.mutable_data(), s.mesh.positions.data(), s.mesh.positions.size() * sizeof(Vec3));
+            return a;
+        }, "a copy of the vertex positions, float32 (V, 3)")
+        .def_property_readonly("triangles", [](const Scene& s) {
+            auto a = new_array<uint32_t>({py::ssize_t(s.mesh.triangle_count())}, {3});
+            std::copy(s.mesh.indices.begin(), s.mesh.indices.end(), a.mutable_data());
+            return a;
+        }, "a copy of the triangles' vertex indices, uint32 (T, 3)")
+        .def("__repr__", [](const Scene& s) {
+            return "<thicket.Scene '" + s.name + "': " + std::to_string(s.mesh.triangle_count()) + " triangles, " +
+                   std::to_string(s.shapes.size()) + " shapes>";
+        });
+
+    m.def("load_scene", [](const py::object& path) {
+        const std::string p = path_argument(path);
+        py::gil_scoped_release nogil;
+        return std::make_shared<Scene>(load_scene(p));
+    }, "path"_a, "Loads a PLY, OBJ, glTF or JSON scene, or a built-in one ('cornell', 'teapot-patches')");
+
+    py::class_<AccelHandle>(m, "Accel", "An acceleration structure over a scene: thicket.build(scene, spec)")
+        .def_property_readonly("spec", [](const AccelHandle& h) { return h.accel->spec(); })
+        .def_property_readonly("scene", [](const AccelHandle& h) { return std::const_pointer_cast<Scene>(h.scene); })
+        .def_property_readonly("bounds", [](const AccelHandle& h) { return bounds_tuple(h.accel->bounds()); })
+        .def("stats", [](const AccelHandle& h) { return stats_dict(h.accel->stats()); },
+             "nodes, leaves, depth, bytes, SAH cost, build time as a dict")
+        .def("save", [](const AccelHandle& h, const py::object& path) {
+            const std::string p = path_argument(path);
+            py::gil_scoped_release nogil;
+            save_accel(*h.accel, *h.scene, p);
+        }, "path"_a, "Saves the structure; thicket.load(path, scene) restores it for the same scene")
+        .def("cast_rays", &cast_rays, "rays"_a, "nthreads"_a = 0, "coherent"_a = false,
+             "Closest hit of rays (..., 6) or (..., 8) float32: dict of t_hit, geometry_ids, primitive_ids, "
+             "primitive_uvs, primitive_normals (Open3D's RaycastingScene.cast_rays)")
+        .def("test_occlusions", &test_occlusions, "rays"_a, "tnear"_a = py::none(), "tfar"_a = py::none(),
+             "nthreads"_a = 0, "coherent"_a = false, "Whether anything is hit: bool array of the rays' leading shape")
+        .def("count_intersections", &count_intersections, "rays"_a, "nthreads"_a = 0,
+             "Number of surface crossings of each ray, int32 of the rays' leading shape (a shared edge or vertex "
+             "crossed once counts once)")
+        .def("list_intersections", &list_intersections, "rays"_a, "nthreads"_a = 0,
+             "Every crossing, sorted by t per ray: dict of ray_splits, ray_ids, t_hit, geometry_ids, primitive_ids, "
+             "primitive_uvs (Open3D 0.17's layout)")
+        .def("compute_closest_points", &compute_closest_points, "query_points"_a, "nthreads"_a = 0,
+             "Closest surface point of points (..., 3) float32: dict of points, geometry_ids, primitive_ids, "
+             "primitive_uvs, primitive_normals (triangle scenes)")
+        .def("compute_distance", &compute_distance, "query_points"_a, "nthreads"_a = 0,
+             "Distance to the surface, float32 of the points' leading shape")
+        .def("compute_signed_distance", &compute_signed_distance, "query_points"_a, "nthreads"_a = 0,
+             "nsamples"_a = 1, "Distance to the surface, negative inside (by compute_occupancy)")
+        .def("compute_occupancy", &compute_occupancy, "query_points"_a, "nthreads"_a = 0, "nsamples"_a = 1,
+             "1 inside, 0 outside (float32), by the parity of crossings along nsamples (odd, up to 5) directions")
+        .def("__repr__", [](const AccelHandle& h) { return "<thicket.Accel '" + h.accel->spec() + "'>"; });
+
+    m.def("build", [](std::shared_ptr<Scene> scene, const std::string& spec) {
+        if (!scene) throw py::value_error("build: scene is None");
+        py::gil_scoped_release nogil;
+        std::shared_ptr<const Accel> accel = build_accel(spec, *scene);
+        return AccelHandle{scene, accel, nullptr};
+    }, "scene"_a, "spec"_a = "bvh8", "Builds a structure from a spec string NAME[:key=value,...] (see accels())");
+
+    m.def("load", [](const py::object& path, std::shared_ptr<Scene> scene) {
+        if (!scene) throw py::value_error("load: scene is None");
+        const std::string p = path_argument(path);
+        py::gil_scoped_release nogil;
+        std::shared_ptr<const Accel> accel = load_accel(p, *scene);
+        return AccelHandle{scene, accel, nullptr};
+    }, "path"_a, "scene"_a, "Loads a structure saved by Accel.save for the same scene");
+
+    m.def("accels", &accels_list, "Every registered structure: name, summary, options, variants");
+}

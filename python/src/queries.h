@@ -1,0 +1,53 @@
+#pragma once
+// The queries of thicket.Accel, numpy in and out, named and shaped as Open3D 0.16's
+// RaycastingScene answers them. Each releases the GIL while it converts and traces, and traces
+// through the library's batch API (all cores unless nthreads says otherwise).
+#include <memory>
+#include <optional>
+
+#include "arrays.h"
+#include "thicket/accel/accel.h"
+#include "thicket/scene/scene.h"
+
+namespace thicket::python {
+
+/// A structure and the scene it was built over (normals and closest points need the scene; the
+/// structure must not outlive it).
+struct AccelHandle {
+    std::shared_ptr<const Scene> scene;
+    std::shared_ptr<const Accel> accel;
+    /// A `bvh` over the same scene, built on the first closest-point query when `accel` cannot
+    /// answer those itself (only ever touched with the GIL held).
+    std::shared_ptr<const Accel> closest_helper;
+};
+
+/// Open3D's cast_rays: dict of t_hit (inf on a miss), geometry_ids (0, or 4294967295 on a miss),
+/// primitive_ids (4294967295 on a miss), primitive_uvs (..., 2), primitive_normals (..., 3).
+py::dict cast_rays(const AccelHandle& h, const py::handle& rays, unsigned threads, bool coherent);
+
+/// Open3D's test_occlusions: a bool array of the rays' leading shape.
+py::array test_occlusions(const AccelHandle& h, const py::handle& rays, std::optional<float> tnear,
+                          std::optional<float> tfar, unsigned threads, bool coherent);
+
+
+/// Open3D's count_intersections: int32 array of the rays' leading shape; a crossing through an
+/// edge or vertex shared by several triangles counts once (Accel::all_hits).
+py::array count_intersections(const AccelHandle& h, const py::handle& rays, unsigned threads);
+
+/// Open3D 0.17's list_intersections over the rays taken in row order: dict of ray_splits (uint32,
+/// rays + 1), ray_ids, t_hit, geometry_ids, primitive_ids, primitive_uvs, sorted by t per ray.
+py::dict list_intersections(const AccelHandle& h, const py::handle& rays, unsigned threads);
+
+/// Open3D's compute_closest_points for points (..., 3): dict of points, geometry_ids,
+/// primitive_ids, primitive_uvs, primitive_normals. Structures that cannot answer closest points
+/// themselves use a BVH built over the same scene on first use.
+py::dict compute_closest_points(AccelHandle& h, const py::handle& points, unsigned threads);
+/// Distance to the surface, float32 of the points' leading shape.
+py::array compute_distance(AccelHandle& h, const py::handle& points, unsigned threads);
+/// Inside (1) or outside (0) by the parity of crossings along `nsamples` fixed directions, the
+/// majority deciding (Open3D: float32).
+py::array compute_occupancy(const AccelHandle& h, const py::handle& points, unsigned threads, int nsamples);
+/// compute_distance, negative where compute_occupancy says inside.
+py::array compute_signed_distance(AccelHandle& h, const py::handle& points, unsigned threads, int nsamples);
+
+}  // namespace thicket::python

@@ -1,0 +1,20 @@
+"""Thicket's ray-tracing acceleration structures, numpy in and out.
+
+    import numpy as np, thicket
+    scene = thicket.load_scene("bunny.ply")          # or thicket.Scene(vertices, triangles)
+    accel = thicket.build(scene, "bvh8")              # any spec string: see thicket.accels()
+    hits = accel.cast_rays(rays)                      # rays (..., 6) or (..., 8) float32
+
+Queries are named and shaped as Open3D's RaycastingScene answers them (t_hit, primitive_ids,
+primitive_uvs, primitive_normals, ...); rays of 8 columns add a per-ray [tmin, tmax]. Tracing
+releases the GIL and uses every core unless nthreads says otherwise. Errors: ValueError for an
+array of the wrong shape or dtype, OSError for a file that cannot be read or written,
+thicket.Error for everything else (a bad spec, a malformed file, a saved structure of another scene).
+"""
+
+from ._thicket import Accel, Error, Scene, accels, build, load, load_scene
+
+INVALID_ID = 4294967295
+"""primitive_ids and geometry_ids of a miss (Open3D's RaycastingScene.INVALID_ID)."""
+
+__all__ = ["Accel", "Error", "Scene", "accels", "build", "load", "load_scene", "INVALID_ID"]

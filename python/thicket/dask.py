@@ -1,0 +1,103 @@
+"""Casting a Dask array of rays on a Dask cluster.
+
+    from dask.distributed import Client
+    import dask.array as da, thicket.dask
+    client = Client("tcp://scheduler:8786")
+    hits = thicket.dask.cast_rays(da.from_zarr("rays.zarr"), "/data/scene.ply", saved="/data/scene.bvh")
+
+Each worker process loads the scene and the structure once (saved with Accel.save, or built from
+`spec` when `saved` is None) and keeps them for every chunk it is given; the paths must be readable
+on the workers. Rays are chunked along their leading axes only (the last axis, 6 or 8 columns, is
+made one chunk). The results are Dask arrays with the rays' leading chunks, as the single-process
+queries answer them: the same values, ray for ray.
+"""
+
+import threading
+
+import numpy as np
+
+import thicket
+
+__all__ = ["cast_rays", "test_occlusions", "count_intersections", "load_count"]
+
+_cache = {}
+_lock = threading.Lock()
+_loads = 0
+
+
+def _accel(scene_path, spec, saved):
+    """The structure for these paths in this process: loaded on first use, then reused."""
+    global _loads
+    key = (scene_path, spec, saved)
+    with _lock:  # a worker's threads share one copy; only one of them loads it
+        accel = _cache.get(key)
+        if accel is None:
+            scene = thicket.load_scene(scene_path)
+            accel = thicket.load(saved, scene) if saved is not None else thicket.build(scene, spec)
+            _cache[key] = accel
+            _loads += 1
+        return accel
+
+
+def load_count():
+    """How many structures this process has loaded or built (the test checks: once per worker)."""
+    return _loads
+
+
+# cast_rays' answers packed in one float32 block per chunk, so one task casts each chunk once and
+# the five outputs are views of it: t, primitive id (its bits), u, v, normal x, y, z.
+_PACKED = 7
+
+
+def _cast_block(block, scene_path, spec, saved, nthreads):
+    hits = _accel(scene_path, spec, saved).cast_rays(np.ascontiguousarray(block, np.float32), nthreads=nthreads)
+    out = np.empty(block.shape[:-1] + (_PACKED,), np.float32)
+    out[..., 0] = hits["t_hit"]
+    out[..., 1] = hits["primitive_ids"].view(np.float32)
+    out[..., 2:4] = hits["primitive_uvs"]
+    out[..., 4:7] = hits["primitive_normals"]
+    return out
+
+
+def _one_chunk_last_axis(rays):
+    if rays.ndim < 1 or rays.shape[-1] not in (6, 8):
+        raise ValueError(f"rays: expected a dask array of shape (..., 6) or (..., 8), got shape {rays.shape}")
+    if rays.dtype != np.float32:
+        raise ValueError(f"rays: expected dtype float32, got shape {rays.shape} {rays.dtype}")
+    return rays.rechunk({rays.ndim - 1: -1}) if len(rays.chunks[-1]) > 1 else rays
+
+
+def cast_rays(rays, scene_path, spec="bvh8", saved=None, nthreads=0):
+    """Closest hits of a Dask array of rays: a dict of Dask arrays with cast_rays' keys."""
+    rays = _one_chunk_last_axis(rays)
+    packed = rays.map_blocks(_cast_block, str(scene_path), spec, None if saved is None else str(saved), nthreads,
+                             dtype=np.float32, chunks=rays.chunks[:-1] + ((_PACKED,),))
+    prim = packed[..., 1].map_blocks(lambda b: b.view(np.uint32), dtype=np.uint32)
+    return {
+        "t_hit": packed[..., 0],
+        "geometry_ids": prim.map_blocks(lambda p: np.where(p == thicket.INVALID_ID, p, np.uint32(0)), dtype=np.uint32),
+        "primitive_ids": prim,
+        "primitive_uvs": packed[..., 2:4],
+        "primitive_normals": packed[..., 4:7],
+    }
+
+
+def _per_ray(rays, scene_path, spec, saved, query, dtype, **kwargs):
+    rays = _one_chunk_last_axis(rays)
+    saved = None if saved is None else str(saved)
+
+    def block(b):
+        return getattr(_accel(str(scene_path), spec, saved), query)(np.ascontiguousarray(b, np.float32), **kwargs)
+
+    return rays.map_blocks(block, dtype=dtype, drop_axis=rays.ndim - 1)
+
+
+def test_occlusions(rays, scene_path, spec="bvh8", saved=None, nthreads=0):
+    """Whether anything is hit, a bool Dask array of the rays' leading shape."""
+    return _per_ray(rays, scene_path, spec, saved, "test_occlusions", np.bool_, nthreads=nthreads)
+
+
+def count_intersections(rays, scene_path, spec="bvh8", saved=None, nthreads=0):
+    """Surface crossings per ray, an int32 Dask array of the rays' leading shape."""
+    return _per_ray(rays, scene_path, spec, saved, "count_intersections", np.int32, nthreads=nthreads)
+
