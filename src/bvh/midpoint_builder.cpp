@@ -9,22 +9,15 @@ class MidpointSplitter final : public Splitter {
 public:
     using Splitter::Splitter;
 
-    Split split(const NodeRange& node) override {
-        const Aabb cb = centroid_bounds(ctx_, node);
+    Split split(const NodeRange& node, unsigned threads) override {
+        const Aabb cb = centroid_bounds(ctx_, node, node.count >= kParallelNodeSize ? threads : 1);
         const int axis = max_axis(cb.extent());
         const float pos = cb.center()[axis];
         if (!(cb.extent()[axis] > 0.0f)) return {};
-
         auto& idx = ctx_.indices;
         const auto& c = ctx_.prims.centroids;
-        uint32_t i = node.first, j = node.first + node.count;  // [first, i) left, [j, end) right
-        while (i < j) {
-            if (c[idx[i]][axis] < pos)
-                ++i;
-            else
-                std::swap(idx[i], idx[--j]);
-        }
-        const uint32_t left = i - node.first;
+        const uint32_t left = partition_node(ctx_, node, threads, [&](uint32_t prim) { return c[prim][axis] < pos; });
+        const uint32_t i = node.first + left;
         if (left == 0 || left == node.count) return {};
 
         Aabb lb, rb;

@@ -22,6 +22,7 @@ BvhBuildOptions build_options(const AccelSpec& spec) {
     o.builder = spec.choice("builder", kBvhBuilders);
     o.bins = int(spec.get_int("bins"));
     o.max_leaf = int(spec.get_int("max-leaf"));
+    o.threads = spec.threads;
     return o;
 }
 
@@ -50,6 +51,7 @@ void register_bvh(std::vector<AccelInfo>& registry) {
     info.variants.push_back("bvh:builder=binned-sah,traversal=ordered-distance,isect=watertight");
     info.variants.push_back("bvh:builder=binned-sah,bins=32,max-leaf=1,traversal=ordered-distance");
 
+    info.threaded_build = true;
     info.build = [](const Scene& scene, const AccelSpec& spec) {
         return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
             return std::make_unique<Bvh<decltype(prims)>>(std::move(prims), build_options(spec), traversal_option(spec));

@@ -19,6 +19,7 @@ Bvh8Options bvh8_options(const AccelSpec& spec) {
     o.binary.builder = spec.choice("builder", kBvhBuilders);
     o.binary.bins = int(spec.get_int("bins"));
     o.binary.max_leaf = int(spec.get_int("max-leaf"));
+    o.binary.threads = spec.threads;
     o.merge_below = uint32_t(spec.get_int("leaf-merge"));
     o.isa = bvh8::resolve_isa(std::string(spec.choice("isa", kIsas)));
     return o;
@@ -53,6 +54,7 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
     info.variants.push_back("bvh8:builder=sweep-sah,max-leaf=8,leaf-merge=8");
     info.variants.push_back("bvh8:builder=midpoint,max-leaf=1");
 
+    info.threaded_build = true;
     info.build = [](const Scene& scene, const AccelSpec& spec) {
         const Bvh8Options options = bvh8_options(spec);
         return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {

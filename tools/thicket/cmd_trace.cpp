@@ -30,7 +30,7 @@ int run_trace(const TraceArgs& args) {
     const size_t n = rays.shape[0];
     std::printf("rays    %s: %zu rays\n", args.rays.c_str(), n);
     const Scene scene = load_scene_verbose(args.scene);
-    const std::unique_ptr<Accel> accel = make_accel_verbose(args.accel, spec, scene);
+    const std::unique_ptr<Accel> accel = make_accel_verbose(args.accel, spec, scene, args.threads);
 
     std::vector<Hit> hits(args.any_hit ? 0 : n);
     std::vector<uint8_t> occluded(args.any_hit ? n : 0);

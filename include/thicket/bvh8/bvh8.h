@@ -44,14 +44,15 @@ public:
     /// Builds the binary BVH with options.binary, collapses it, and picks options.isa's kernels.
     Bvh8(Prims prims, const Bvh8Options& options)
         : prims_(std::move(prims)), primitives_(prims_.size()), kernels_(&bvh8::kernels_for(options.isa)) {
-        std::vector<Aabb> bounds(prims_.size());
-        std::vector<Vec3> centroids(prims_.size());
-        for (uint32_t i = 0; i < prims_.size(); ++i) {
-            bounds[i] = prims_.bounds(i);
-            centroids[i] = prims_.centroid(i);
-        }
+        std::vector<Aabb> bounds;
+        std::vector<Vec3> centroids;
+        primitive_boxes(
+            uint32_t(prims_.size()), options.binary.threads, bounds, centroids,
+            [&](uint32_t i) { return prims_.bounds(i); }, [&](uint32_t i) { return prims_.centroid(i); });
         const BvhData binary = build_bvh({bounds, centroids}, options.binary);
         if constexpr (bvh8::kIsTriangles<Prims>) {
+            // Every block holds at least one triangle: never reallocated during the collapse.
+            blocks_.reserve(prims_.size());
             tree_ = bvh8::collapse(
                 binary,
                 [&](uint32_t first, uint32_t count) { return emit_blocks(binary.prim_indices.data() + first, count); },
