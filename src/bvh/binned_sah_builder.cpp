@@ -103,7 +103,10 @@ public:
         const uint32_t left = partition_node(ctx_, node, threads, [&](uint32_t prim) {
             return bin_of(c[prim][best_axis], lo, s) <= best_plane;
         });
-        return {left, best_axis};
+        Split split{left, best_axis, true, {}, {}};
+        for (uint32_t b = 0; b < bins_; ++b)
+            (b <= best_plane ? split.left_bounds : split.right_bounds).grow(bins.bounds[best_axis][b]);
+        return split;
     }
 
 private:

@@ -43,7 +43,7 @@ Split Splitter::median_split(const NodeRange& node) {
     std::nth_element(begin, begin + node.count / 2, begin + node.count, [&](uint32_t a, uint32_t b) {
         return c[a][axis] < c[b][axis] || (c[a][axis] == c[b][axis] && a < b);
     });
-    return {node.count / 2, axis};
+    return {node.count / 2, axis, false, {}, {}};
 }
 
 }  // namespace bvh_build
@@ -75,15 +75,20 @@ void compute_child_order(BvhData& bvh) {
 
 struct Task {
     uint32_t node, depth;
+    bool bounded = false;  ///< the node's box is already stored (its parent's split knew it)
 };
 
-/// Bounds `node` (its range in leftFirst/count) and chooses its split, on up to `threads`
+/// Bounds `node` (its range in leftFirst/count) unless task.bounded, and chooses its split, on up to `threads`
 /// threads if it is a top node. left_count 0: it stays a leaf.
-Split bound_and_split(BuildContext& ctx, Splitter& splitter, BvhNode& node, uint32_t depth, unsigned threads) {
-    NodeRange range{node.leftFirst, node.count, {}};
-    range.bounds = range_box(ctx, range.first, range.count, threads, [&](uint32_t prim) { return ctx.prims.bounds[prim]; });
-    node.aabbMin = range.bounds.min;
-    node.aabbMax = range.bounds.max;
+Split bound_and_split(BuildContext& ctx, Splitter& splitter, BvhNode& node, const Task& task, unsigned threads) {
+    NodeRange range{node.leftFirst, node.count, node.bounds()};
+    if (!task.bounded) {
+        range.bounds =
+            range_box(ctx, range.first, range.count, threads, [&](uint32_t prim) { return ctx.prims.bounds[prim]; });
+        node.aabbMin = range.bounds.min;
+        node.aabbMax = range.bounds.max;
+    }
+    const uint32_t depth = task.depth;
     if (range.count == 1) return {};
     Split split;
     if (depth >= kMaxSahDepth) {
@@ -111,6 +116,12 @@ uint32_t add_children(AlignedVector<BvhNode, 64>& nodes, std::vector<uint8_t>& o
     nodes[left].count = split.left_count;
     nodes[left + 1].leftFirst = node.leftFirst + split.left_count;
     nodes[left + 1].count = node.count - split.left_count;
+    if (split.bounded) {
+        nodes[left].aabbMin = split.left_bounds.min;
+        nodes[left].aabbMax = split.left_bounds.max;
+        nodes[left + 1].aabbMin = split.right_bounds.min;
+        nodes[left + 1].aabbMax = split.right_bounds.max;
+    }
     node.leftFirst = left;
     node.count = 0;
     order[index] = ChildOrder::pack(split.axis, 0, false);
@@ -128,22 +139,22 @@ struct Subtree {
 
 /// Builds the subtree rooted at `root` (a copy of its node: range in leftFirst/count) depth
 /// first with an explicit stack.
-void build_subtree(BuildContext& ctx, Splitter& splitter, const BvhNode& root, uint32_t depth, Subtree& out) {
+void build_subtree(BuildContext& ctx, Splitter& splitter, const BvhNode& root, const Task& root_task, Subtree& out) {
     // Reserved, not filled: only the pages the subtree uses are ever touched.
     out.nodes.reserve(2 * size_t(root.count));
     out.order.reserve(2 * size_t(root.count));
     out.nodes.resize(2);
     out.order.resize(2);
     out.nodes[0] = root;
-    std::vector<Task> stack{{0, depth}};
+    std::vector<Task> stack{{0, root_task.depth, root_task.bounded}};
     while (!stack.empty()) {
         const Task task = stack.back();
         stack.pop_back();
-        const Split split = bound_and_split(ctx, splitter, out.nodes[task.node], task.depth, 1);
+        const Split split = bound_and_split(ctx, splitter, out.nodes[task.node], task, 1);
         if (split.left_count == 0) continue;
         const uint32_t left = add_children(out.nodes, out.order, out.used, task.node, split);
-        stack.push_back({left + 1, task.depth + 1});
-        stack.push_back({left, task.depth + 1});
+        stack.push_back({left + 1, task.depth + 1, split.bounded});
+        stack.push_back({left, task.depth + 1, split.bounded});
     }
 }
 
@@ -172,7 +183,7 @@ BvhData build_bvh(const BuildPrimitives& prims, const BvhBuildOptions& options) 
 
     // Top nodes, depth first, each with all threads; smaller nodes are set aside as subtree roots
     // in the order met, which depends on the sizes alone.
-    std::vector<Task> stack{{0, 0}}, roots;
+    std::vector<Task> stack{{0, 0, false}}, roots;
     while (!stack.empty()) {
         const Task task = stack.back();
         stack.pop_back();
@@ -180,11 +191,11 @@ BvhData build_bvh(const BuildPrimitives& prims, const BvhBuildOptions& options) 
             roots.push_back(task);
             continue;
         }
-        const Split split = bound_and_split(ctx, *splitter, bvh.nodes[task.node], task.depth, threads);
+        const Split split = bound_and_split(ctx, *splitter, bvh.nodes[task.node], task, threads);
         if (split.left_count == 0) continue;
         const uint32_t left = add_children(bvh.nodes, bvh.child_order, bvh.nodes_used, task.node, split);
-        stack.push_back({left + 1, task.depth + 1});
-        stack.push_back({left, task.depth + 1});
+        stack.push_back({left + 1, task.depth + 1, split.bounded});
+        stack.push_back({left, task.depth + 1, split.bounded});
     }
 
     // Subtrees as tasks, biggest first for balance (the order they run in changes nothing).
@@ -196,7 +207,7 @@ BvhData build_bvh(const BuildPrimitives& prims, const BvhBuildOptions& options) 
     parallel_for(roots.size(), 1, threads, [&](size_t begin, size_t end) {
         for (size_t k = begin; k < end; ++k) {
             const Task& root = roots[by_size[k]];
-            build_subtree(ctx, *splitter, bvh.nodes[root.node], root.depth, subtrees[by_size[k]]);
+            build_subtree(ctx, *splitter, bvh.nodes[root.node], root, subtrees[by_size[k]]);
         }
     });
 

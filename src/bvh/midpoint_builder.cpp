@@ -25,7 +25,7 @@ public:
         for (uint32_t k = i; k < node.first + node.count; ++k) rb.grow(ctx_.prims.bounds[idx[k]]);
         const float cost = sah_split_cost(lb.half_area(), left, rb.half_area(), node.count - left, node.bounds.half_area());
         if (cost >= sah_leaf_cost(node.count) && node.count <= uint32_t(ctx_.options.max_leaf)) return {};
-        return {left, axis};
+        return {left, axis, true, lb, rb};
     }
 };
 

@@ -21,6 +21,10 @@ struct NodeRange {
 struct Split {
     uint32_t left_count = 0;
     int axis = 0;  ///< the left child lies on the lower side of this axis
+    /// The children's boxes when the splitter has them anyway (bins, a sweep): the build then
+    /// skips one pass over each child's primitives. Exactly what that pass would compute.
+    bool bounded = false;
+    Aabb left_bounds, right_bounds;
 };
 
 struct BuildContext {
