@@ -57,6 +57,7 @@ std::unique_ptr<Splitter> make_splitter(BuildContext& ctx) {
     case BvhBuilder::Midpoint: return make_midpoint_splitter(ctx);
     case BvhBuilder::BinnedSah: return make_binned_sah_splitter(ctx);
     case BvhBuilder::SweepSah: return make_sweep_sah_splitter(ctx);
+    case BvhBuilder::Lbvh: return make_lbvh_splitter(ctx);
     }
     throw Error("unknown BVH builder");
 }

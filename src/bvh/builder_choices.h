@@ -10,6 +10,7 @@ inline constexpr Choice<BvhBuilder> kBvhBuilders[] = {
     {"midpoint", BvhBuilder::Midpoint},
     {"binned-sah", BvhBuilder::BinnedSah},
     {"sweep-sah", BvhBuilder::SweepSah},
+    {"lbvh", BvhBuilder::Lbvh},
 };
 
 }  // namespace thicket

@@ -36,7 +36,8 @@ void register_bvh(std::vector<AccelInfo>& registry) {
     info.summary = "the lecture's BVH: 32-byte nodes, node pool, in-place partition, SAH leaves";
     info.partitioning = Partitioning::Object;
     info.options = {
-        choice_option("builder", "split choice: longest-axis midpoint, binned SAH (Wald 2007), or a full SAH sweep",
+        choice_option("builder", "split choice: longest-axis midpoint, binned SAH (Wald 2007), a full SAH sweep, or the linear "
+                      "Morton-order builder (Karras 2012: fastest build, looser tree)",
                       BvhBuilder::BinnedSah, kBvhBuilders),
         {"bins", "bins per axis for binned-sah", "8", {}, 2, 256},
         {"max-leaf", "largest leaf; bigger nodes are split even when the SAH would stop", "8", {}, 1, 255},

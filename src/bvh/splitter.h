@@ -143,5 +143,6 @@ protected:
 std::unique_ptr<Splitter> make_midpoint_splitter(BuildContext& ctx);
 std::unique_ptr<Splitter> make_binned_sah_splitter(BuildContext& ctx);
 std::unique_ptr<Splitter> make_sweep_sah_splitter(BuildContext& ctx);
+std::unique_ptr<Splitter> make_lbvh_splitter(BuildContext& ctx);
 
 }  // namespace thicket::bvh_build

@@ -53,6 +53,7 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
     }
     info.variants.push_back("bvh8:builder=sweep-sah,max-leaf=8,leaf-merge=8");
     info.variants.push_back("bvh8:builder=midpoint,max-leaf=1");
+    info.variants.push_back("bvh8:builder=lbvh");
 
     info.threaded_build = true;
     info.build = [](const Scene& scene, const AccelSpec& spec) {

@@ -56,7 +56,8 @@ std::vector<Case> cases() {
     return {{"midpoint", {BvhBuilder::Midpoint, 8, 8}},
             {"binned-sah bins=8", {BvhBuilder::BinnedSah, 8, 8}},
             {"binned-sah bins=32 max-leaf=1", {BvhBuilder::BinnedSah, 32, 1}},
-            {"sweep-sah", {BvhBuilder::SweepSah, 8, 4}}};
+            {"sweep-sah", {BvhBuilder::SweepSah, 8, 4}},
+            {"lbvh", {BvhBuilder::Lbvh, 8, 4}}};
 }
 
 TEST(BvhParallelBuild, SameTreeByteForByteOnOneTwoAndSevenThreads) {

@@ -30,7 +30,7 @@ void primitive_boxes(uint32_t count, unsigned threads, std::vector<Aabb>& bounds
     });
 }
 
-enum class BvhBuilder { Midpoint, BinnedSah, SweepSah };
+enum class BvhBuilder { Midpoint, BinnedSah, SweepSah, Lbvh };
 
 struct BvhBuildOptions {
     BvhBuilder builder = BvhBuilder::BinnedSah;
