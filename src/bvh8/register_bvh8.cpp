@@ -5,6 +5,9 @@
 
 #include <string>
 #include <string_view>
+#include <utility>
+
+#include "thicket/core/error.h"
 
 namespace thicket {
 
@@ -14,7 +17,33 @@ constexpr Choice<std::string_view> kIsas[] = {
     {"auto", "auto"}, {"scalar", "scalar"}, {"sse", "sse"}, {"avx2", "avx2"}, {"avx512", "avx512"},
 };
 
-Bvh8Options bvh8_options(const AccelSpec& spec) {
+enum class Quality { Custom, Low, Medium, High };
+constexpr Choice<Quality> kQualities[] = {
+    {"custom", Quality::Custom}, {"low", Quality::Low}, {"medium", Quality::Medium}, {"high", Quality::High}};
+
+// The defaults of the keys a preset sets; register_bvh8 lists these same strings as the defaults.
+constexpr const char* kDefaultBuilder = "binned-sah";
+constexpr const char* kDefaultBins = "16";
+
+/// The builder settings of a quality preset, as spec values. A preset sets builder and bins; a
+/// spec that also gives either a value other than its default asks for two things at once.
+void apply_quality(AccelSpec& spec) {
+    const Quality q = spec.choice("quality", kQualities);
+    if (q == Quality::Custom) return;
+    const std::string builder = q == Quality::Low ? "lbvh" : q == Quality::Medium ? "binned-sah" : "sweep-sah";
+    const std::string bins = kDefaultBins;
+    for (const auto& [key, default_value] : {std::pair<std::string, std::string>{"builder", kDefaultBuilder},
+                                             std::pair<std::string, std::string>{"bins", kDefaultBins}}) {
+        if (spec.get(key) != default_value)
+            throw Error("bvh8: quality=" + spec.get("quality") + " sets " + key + " itself; drop " + key + "=" +
+                        spec.get(key) + " or use quality=custom");
+    }
+    spec.options["builder"] = builder;
+    spec.options["bins"] = bins;
+}
+
+Bvh8Options bvh8_options(AccelSpec spec) {
+    apply_quality(spec);
     Bvh8Options o;
     o.binary.builder = spec.choice("builder", kBvhBuilders);
     o.binary.bins = int(spec.get_int("bins"));
@@ -35,7 +64,12 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
     info.options = {
         choice_option("builder", "the binary BVH builder whose tree is collapsed to 8 wide", BvhBuilder::BinnedSah,
                       kBvhBuilders),
-        {"bins", "bins per axis for binned-sah", "16", {}, 2, 256},
+        {"bins", "bins per axis for binned-sah", kDefaultBins, {}, 2, 256},
+        choice_option("quality",
+                      "builder preset: low = builder=lbvh (fastest build), medium = builder=binned-sah,bins=16 "
+                      "(parallel binned SAH), high = builder=sweep-sah (full SAH sweep); custom = the builder and "
+                      "bins keys as given (a preset with another builder or bins is an error)",
+                      Quality::Custom, kQualities),
         {"max-leaf", "largest binary leaf (one 4-triangle block per 4)", "4", {}, 1, 255},
         {"leaf-merge",
          "binary subtrees of at most this many primitives become one leaf: 4 fills one block; 8 trades "
@@ -54,6 +88,8 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
     info.variants.push_back("bvh8:builder=sweep-sah,max-leaf=8,leaf-merge=8");
     info.variants.push_back("bvh8:builder=midpoint,max-leaf=1");
     info.variants.push_back("bvh8:builder=lbvh");
+    info.variants.push_back("bvh8:quality=low");
+    info.variants.push_back("bvh8:quality=high");
 
     info.threaded_build = true;
     info.build = [](const Scene& scene, const AccelSpec& spec) {
