@@ -8,6 +8,7 @@
 #include <numeric>
 
 #include "splitter.h"
+#include "thicket/bvh/reinsertion.h"
 #include "thicket/core/error.h"
 
 namespace thicket {
@@ -233,6 +234,7 @@ BvhData build_bvh(const BuildPrimitives& prims, const BvhBuildOptions& options) 
         }
     });
     compute_child_order(bvh);
+    if (options.optimize == BvhOptimize::Reinsertion) optimize_reinsertion(bvh, options.optimize_passes);
     return bvh;
 }
 

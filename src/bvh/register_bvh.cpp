@@ -23,6 +23,8 @@ BvhBuildOptions build_options(const AccelSpec& spec) {
     o.bins = int(spec.get_int("bins"));
     o.max_leaf = int(spec.get_int("max-leaf"));
     o.threads = spec.threads;
+    o.optimize = spec.choice("optimize", kBvhOptimizers);
+    o.optimize_passes = int(spec.get_int("passes"));
     return o;
 }
 
@@ -46,11 +48,14 @@ void register_bvh(std::vector<AccelInfo>& registry) {
                       "the ray's sign on the stored split axis, or on the axis of widest child-centroid separation",
                       BvhTraversal::OrderedDistance, kTraversals),
     };
+    for (OptionInfo& o : bvh_optimize_options()) info.options.push_back(std::move(o));
     for (const auto& builder : kBvhBuilders)
         for (const auto& traversal : kTraversals)
             info.variants.push_back(std::string("bvh:builder=") + builder.name + ",traversal=" + traversal.name);
     info.variants.push_back("bvh:builder=binned-sah,traversal=ordered-distance,isect=watertight");
     info.variants.push_back("bvh:builder=binned-sah,bins=32,max-leaf=1,traversal=ordered-distance");
+    info.variants.push_back("bvh:builder=binned-sah,optimize=reinsertion,traversal=ordered-axis");
+    info.variants.push_back("bvh:builder=lbvh,optimize=reinsertion,max-leaf=1,traversal=ordered-centroid");
 
     info.threaded_build = true;
     info.build = [](const Scene& scene, const AccelSpec& spec) {

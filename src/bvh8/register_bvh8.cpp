@@ -32,14 +32,17 @@ void apply_quality(AccelSpec& spec) {
     if (q == Quality::Custom) return;
     const std::string builder = q == Quality::Low ? "lbvh" : q == Quality::Medium ? "binned-sah" : "sweep-sah";
     const std::string bins = kDefaultBins;
+    const std::string optimize = q == Quality::High ? "reinsertion" : "none";
     for (const auto& [key, default_value] : {std::pair<std::string, std::string>{"builder", kDefaultBuilder},
-                                             std::pair<std::string, std::string>{"bins", kDefaultBins}}) {
+                                             std::pair<std::string, std::string>{"bins", kDefaultBins},
+                                             std::pair<std::string, std::string>{"optimize", "none"}}) {
         if (spec.get(key) != default_value)
             throw Error("bvh8: quality=" + spec.get("quality") + " sets " + key + " itself; drop " + key + "=" +
                         spec.get(key) + " or use quality=custom");
     }
     spec.options["builder"] = builder;
     spec.options["bins"] = bins;
+    spec.options["optimize"] = optimize;
 }
 
 Bvh8Options bvh8_options(AccelSpec spec) {
@@ -49,6 +52,8 @@ Bvh8Options bvh8_options(AccelSpec spec) {
     o.binary.bins = int(spec.get_int("bins"));
     o.binary.max_leaf = int(spec.get_int("max-leaf"));
     o.binary.threads = spec.threads;
+    o.binary.optimize = spec.choice("optimize", kBvhOptimizers);
+    o.binary.optimize_passes = int(spec.get_int("passes"));
     o.merge_below = uint32_t(spec.get_int("leaf-merge"));
     o.isa = bvh8::resolve_isa(std::string(spec.choice("isa", kIsas)));
     return o;
@@ -67,8 +72,9 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
         {"bins", "bins per axis for binned-sah", kDefaultBins, {}, 2, 256},
         choice_option("quality",
                       "builder preset: low = builder=lbvh (fastest build), medium = builder=binned-sah,bins=16 "
-                      "(parallel binned SAH), high = builder=sweep-sah (full SAH sweep); custom = the builder and "
-                      "bins keys as given (a preset with another builder or bins is an error)",
+                      "(parallel binned SAH), high = builder=sweep-sah,optimize=reinsertion (full SAH sweep, then "
+                      "reinsertion); custom = the builder, bins and optimize keys as given (a preset with another "
+                      "value of one of them is an error)",
                       Quality::Custom, kQualities),
         {"max-leaf", "largest binary leaf (one 4-triangle block per 4)", "4", {}, 1, 255},
         {"leaf-merge",
@@ -80,6 +86,7 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
                       "one level",
                       std::string_view("auto"), kIsas),
     };
+    for (OptionInfo& o : bvh_optimize_options()) info.options.push_back(std::move(o));
     for (bvh8::Isa isa : bvh8::cpu_isas()) {
         const std::string level = bvh8::isa_name(isa);
         info.variants.push_back("bvh8:isa=" + level);

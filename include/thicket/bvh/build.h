@@ -31,6 +31,7 @@ void primitive_boxes(uint32_t count, unsigned threads, std::vector<Aabb>& bounds
 }
 
 enum class BvhBuilder { Midpoint, BinnedSah, SweepSah, Lbvh };
+enum class BvhOptimize { None, Reinsertion };
 
 struct BvhBuildOptions {
     BvhBuilder builder = BvhBuilder::BinnedSah;
@@ -39,6 +40,8 @@ struct BvhBuildOptions {
     /// Threads the build may use (0: every core). Never changes the result: the tree is the same
     /// byte for byte on any number of threads.
     unsigned threads = 0;
+    BvhOptimize optimize = BvhOptimize::None;  ///< applied to the built tree (optimize_reinsertion)
+    int optimize_passes = 3;                   ///< the optimizer's budget: passes at most
 };
 
 /// What builders see of the primitives: bounds and centroids, nothing else.
