@@ -100,10 +100,16 @@ public:
         // Partition with the same bin function, so the sides match the counts evaluated above.
         const auto& c = ctx_.prims.centroids;
         const float lo = cb.min[best_axis], s = scale[best_axis];
-        const uint32_t left = partition_node(ctx_, node, threads, [&](uint32_t prim) {
+        const Partition part = partition_node(ctx_, node, threads, [&](uint32_t prim) {
             return bin_of(c[prim][best_axis], lo, s) <= best_plane;
         });
-        Split split{left, best_axis, true, {}, {}};
+        Split split;
+        split.left_count = part.left;
+        split.axis = best_axis;
+        split.bounded = true;
+        split.centroids_known = true;
+        split.left_centroids = part.left_centroids;
+        split.right_centroids = part.right_centroids;
         for (uint32_t b = 0; b < bins_; ++b)
             (b <= best_plane ? split.left_bounds : split.right_bounds).grow(bins.bounds[best_axis][b]);
         return split;

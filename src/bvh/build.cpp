@@ -32,6 +32,7 @@ Aabb range_box(const BuildContext& ctx, uint32_t first, uint32_t count, unsigned
 }
 
 Aabb centroid_bounds(const BuildContext& ctx, const NodeRange& node, unsigned threads) {
+    if (node.centroids_known) return node.centroids;
     return range_box(ctx, node.first, node.count, threads, [&](uint32_t prim) { return ctx.prims.centroids[prim]; });
 }
 
@@ -44,7 +45,7 @@ Split Splitter::median_split(const NodeRange& node) {
     std::nth_element(begin, begin + node.count / 2, begin + node.count, [&](uint32_t a, uint32_t b) {
         return c[a][axis] < c[b][axis] || (c[a][axis] == c[b][axis] && a < b);
     });
-    return {node.count / 2, axis, false, {}, {}};
+    return plain_split(node.count / 2, axis);
 }
 
 }  // namespace bvh_build
@@ -78,12 +79,21 @@ void compute_child_order(BvhData& bvh) {
 struct Task {
     uint32_t node, depth;
     bool bounded = false;  ///< the node's box is already stored (its parent's split knew it)
+    bool centroids_known = false;  ///< centroids holds its centroids' bounds
+    Aabb centroids;
 };
+
+/// The tasks of the children of a node split by `split` at pair `left`.
+std::pair<Task, Task> child_tasks(const Split& split, uint32_t left, uint32_t depth) {
+    Task l{left, depth + 1, split.bounded, split.centroids_known, split.left_centroids};
+    Task r{left + 1, depth + 1, split.bounded, split.centroids_known, split.right_centroids};
+    return {l, r};
+}
 
 /// Bounds `node` (its range in leftFirst/count) unless task.bounded, and chooses its split, on up to `threads`
 /// threads if it is a top node. left_count 0: it stays a leaf.
 Split bound_and_split(BuildContext& ctx, Splitter& splitter, BvhNode& node, const Task& task, unsigned threads) {
-    NodeRange range{node.leftFirst, node.count, node.bounds()};
+    NodeRange range{node.leftFirst, node.count, node.bounds(), task.centroids_known, task.centroids};
     if (!task.bounded) {
         range.bounds =
             range_box(ctx, range.first, range.count, threads, [&](uint32_t prim) { return ctx.prims.bounds[prim]; });
@@ -148,15 +158,16 @@ void build_subtree(BuildContext& ctx, Splitter& splitter, const BvhNode& root, c
     out.nodes.resize(2);
     out.order.resize(2);
     out.nodes[0] = root;
-    std::vector<Task> stack{{0, root_task.depth, root_task.bounded}};
+    std::vector<Task> stack{root_task};
+    stack.back().node = 0;
     while (!stack.empty()) {
         const Task task = stack.back();
         stack.pop_back();
         const Split split = bound_and_split(ctx, splitter, out.nodes[task.node], task, 1);
         if (split.left_count == 0) continue;
-        const uint32_t left = add_children(out.nodes, out.order, out.used, task.node, split);
-        stack.push_back({left + 1, task.depth + 1, split.bounded});
-        stack.push_back({left, task.depth + 1, split.bounded});
+        const auto [l, r] = child_tasks(split, add_children(out.nodes, out.order, out.used, task.node, split), task.depth);
+        stack.push_back(r);
+        stack.push_back(l);
     }
 }
 
@@ -185,7 +196,7 @@ BvhData build_bvh(const BuildPrimitives& prims, const BvhBuildOptions& options) 
 
     // Top nodes, depth first, each with all threads; smaller nodes are set aside as subtree roots
     // in the order met, which depends on the sizes alone.
-    std::vector<Task> stack{{0, 0, false}}, roots;
+    std::vector<Task> stack{Task{0, 0, false, false, {}}}, roots;
     while (!stack.empty()) {
         const Task task = stack.back();
         stack.pop_back();
@@ -195,9 +206,10 @@ BvhData build_bvh(const BuildPrimitives& prims, const BvhBuildOptions& options) 
         }
         const Split split = bound_and_split(ctx, *splitter, bvh.nodes[task.node], task, threads);
         if (split.left_count == 0) continue;
-        const uint32_t left = add_children(bvh.nodes, bvh.child_order, bvh.nodes_used, task.node, split);
-        stack.push_back({left + 1, task.depth + 1, split.bounded});
-        stack.push_back({left, task.depth + 1, split.bounded});
+        const auto [l, r] =
+            child_tasks(split, add_children(bvh.nodes, bvh.child_order, bvh.nodes_used, task.node, split), task.depth);
+        stack.push_back(r);
+        stack.push_back(l);
     }
 
     // Subtrees as tasks, biggest first for balance (the order they run in changes nothing).

@@ -67,7 +67,7 @@ public:
             const uint32_t mid = lo + (hi - lo) / 2;
             ((codes_[mid] >> bit) & 1 ? hi : lo) = mid;
         }
-        return {hi - node.first, axis_of_bit(bit), false, {}, {}};
+        return plain_split(hi - node.first, axis_of_bit(bit));
     }
 
     /// Splits by count, keeping the Morton order (the codes travel with the indices).
@@ -75,7 +75,7 @@ public:
         const int bit = codes_[node.first] == codes_[node.first + node.count - 1]
                             ? 0
                             : 63 - std::countl_zero(codes_[node.first] ^ codes_[node.first + node.count - 1]);
-        return {node.count / 2, axis_of_bit(bit), false, {}, {}};
+        return plain_split(node.count / 2, axis_of_bit(bit));
     }
 
 private:

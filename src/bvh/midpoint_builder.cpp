@@ -16,7 +16,8 @@ public:
         if (!(cb.extent()[axis] > 0.0f)) return {};
         auto& idx = ctx_.indices;
         const auto& c = ctx_.prims.centroids;
-        const uint32_t left = partition_node(ctx_, node, threads, [&](uint32_t prim) { return c[prim][axis] < pos; });
+        const Partition part = partition_node(ctx_, node, threads, [&](uint32_t prim) { return c[prim][axis] < pos; });
+        const uint32_t left = part.left;
         const uint32_t i = node.first + left;
         if (left == 0 || left == node.count) return {};
 
@@ -25,7 +26,16 @@ public:
         for (uint32_t k = i; k < node.first + node.count; ++k) rb.grow(ctx_.prims.bounds[idx[k]]);
         const float cost = sah_split_cost(lb.half_area(), left, rb.half_area(), node.count - left, node.bounds.half_area());
         if (cost >= sah_leaf_cost(node.count) && node.count <= uint32_t(ctx_.options.max_leaf)) return {};
-        return {left, axis, true, lb, rb};
+        Split split;
+        split.left_count = left;
+        split.axis = axis;
+        split.bounded = true;
+        split.left_bounds = lb;
+        split.right_bounds = rb;
+        split.centroids_known = true;
+        split.left_centroids = part.left_centroids;
+        split.right_centroids = part.right_centroids;
+        return split;
     }
 };
 

@@ -14,7 +14,9 @@ namespace thicket::bvh_build {
 
 struct NodeRange {
     uint32_t first = 0, count = 0;
-    Aabb bounds;  ///< of the primitives' bounds in the range
+    Aabb bounds;                   ///< of the primitives' bounds in the range
+    bool centroids_known = false;  ///< centroids holds their centroids' bounds (the parent's partition found them)
+    Aabb centroids;
 };
 
 /// left_count == 0 means "make a leaf"; otherwise indices[first, first+left_count) is the left child.
@@ -25,6 +27,23 @@ struct Split {
     /// skips one pass over each child's primitives. Exactly what that pass would compute.
     bool bounded = false;
     Aabb left_bounds, right_bounds;
+    /// The children's centroid bounds when the partition found them (partition_node does).
+    bool centroids_known = false;
+    Aabb left_centroids, right_centroids;
+};
+
+/// A split without any boxes: left_count and axis only.
+inline Split plain_split(uint32_t left_count, int axis) {
+    Split s;
+    s.left_count = left_count;
+    s.axis = axis;
+    return s;
+}
+
+/// What partition_node did: the left side's size and both sides' centroid bounds.
+struct Partition {
+    uint32_t left = 0;
+    Aabb left_centroids, right_centroids;
 };
 
 struct BuildContext {
@@ -69,33 +88,52 @@ void for_each_chunk(uint32_t first, uint32_t count, unsigned threads, F&& f) {
     });
 }
 
-/// Bounds of the centroids of indices[first, first+count); a top node's on `threads` threads.
+/// Bounds of the centroids of indices[first, first+count) (node.centroids when known); a top
+/// node's on `threads` threads.
 Aabb centroid_bounds(const BuildContext& ctx, const NodeRange& node, unsigned threads = 1);
 
-/// Reorders the node's range so the primitives with goes_left(prim) come first and returns how
-/// many they are. A top node (kParallelNodeSize or more) is partitioned stably, chunk by chunk
-/// on `threads` threads through a scratch copy; a smaller one in place, quicksort-style.
+/// Reorders the node's range so the primitives with goes_left(prim) come first; returns how
+/// many they are and both sides' centroid bounds (gathered on the way: the children need not
+/// scan their centroids again). A top node (kParallelNodeSize or more) is partitioned stably,
+/// chunk by chunk on `threads` threads through a scratch copy; a smaller one in place,
+/// quicksort-style.
 template <class GoesLeft>
-uint32_t partition_node(BuildContext& ctx, const NodeRange& node, unsigned threads, GoesLeft&& goes_left) {
+Partition partition_node(BuildContext& ctx, const NodeRange& node, unsigned threads, GoesLeft&& goes_left) {
     auto& idx = ctx.indices;
+    const auto& cen = ctx.prims.centroids;
+    Partition out;
     if (node.count < kParallelNodeSize) {
         uint32_t i = node.first, j = node.first + node.count;  // [first, i) left, [j, end) right
         while (i < j) {
-            if (goes_left(idx[i]))
+            if (goes_left(idx[i])) {
+                out.left_centroids.grow(cen[idx[i]]);
                 ++i;
-            else
+            } else {
                 std::swap(idx[i], idx[--j]);
+                out.right_centroids.grow(cen[idx[j]]);
+            }
         }
-        return i - node.first;
+        out.left = i - node.first;
+        return out;
     }
     const size_t chunks = chunk_count(node.count);
     std::vector<uint32_t> lefts(chunks);
     std::vector<uint8_t> side(node.count);
+    std::vector<Aabb> left_cb(chunks), right_cb(chunks);
     for_each_chunk(node.first, node.count, threads, [&](size_t c, uint32_t lo, uint32_t hi) {
         uint32_t n = 0;
-        for (uint32_t k = lo; k < hi; ++k) n += side[k - node.first] = goes_left(idx[k]) ? 1 : 0;
+        for (uint32_t k = lo; k < hi; ++k) {
+            const bool left = goes_left(idx[k]);
+            side[k - node.first] = left ? 1 : 0;
+            n += left ? 1 : 0;
+            (left ? left_cb[c] : right_cb[c]).grow(cen[idx[k]]);
+        }
         lefts[c] = n;
     });
+    for (size_t c = 0; c < chunks; ++c) {  // in chunk order: the same boxes on any thread count
+        out.left_centroids.grow(left_cb[c]);
+        out.right_centroids.grow(right_cb[c]);
+    }
     std::vector<uint32_t> left_at(chunks), right_at(chunks);  // where each chunk's sides go
     uint32_t left_total = 0;
     for (size_t c = 0; c < chunks; ++c) left_total += lefts[c];
@@ -116,7 +154,8 @@ uint32_t partition_node(BuildContext& ctx, const NodeRange& node, unsigned threa
         std::copy(scratch.begin() + ptrdiff_t(begin), scratch.begin() + ptrdiff_t(end),
                   idx.begin() + ptrdiff_t(node.first + begin));
     });
-    return left_total;
+    out.left = left_total;
+    return out;
 }
 
 /// Chooses how to split a node. One splitter serves a whole build and may be called from several

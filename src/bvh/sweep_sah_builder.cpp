@@ -60,7 +60,7 @@ public:
         if (best_axis < 0) return {};
         if (best_cost >= sah_leaf_cost(node.count) && node.count <= uint32_t(ctx_.options.max_leaf)) return {};
         apply(node, best_axis, best_left);
-        return {best_left, best_axis, false, {}, {}};
+        return plain_split(best_left, best_axis);
     }
 
     Split median_split(const NodeRange& node) override {
@@ -72,7 +72,7 @@ public:
             if (extent > widest) widest = extent, axis = a;
         }
         apply(node, axis, node.count / 2);
-        return {node.count / 2, axis, false, {}, {}};
+        return plain_split(node.count / 2, axis);
     }
 
 private:
