@@ -165,13 +165,15 @@ std::vector<std::string> all_accel_variants() {
     return out;
 }
 
-std::unique_ptr<Accel> build_accel(std::string_view spec_text, const Scene& scene) {
-    return build_accel(parse_accel_spec(spec_text), scene);
+std::unique_ptr<Accel> build_accel(std::string_view spec_text, const Scene& scene, unsigned threads) {
+    return build_accel(parse_accel_spec(spec_text), scene, threads);
 }
 
-std::unique_ptr<Accel> build_accel(const AccelSpec& spec, const Scene& scene) {
-    const AccelInfo* info = find_accel(spec.name);
-    if (!info) throw Error("unknown acceleration structure '" + spec.name + "' (see `thicket accels`)");
+std::unique_ptr<Accel> build_accel(const AccelSpec& parsed, const Scene& scene, unsigned threads) {
+    const AccelInfo* info = find_accel(parsed.name);
+    if (!info) throw Error("unknown acceleration structure '" + parsed.name + "' (see `thicket accels`)");
+    AccelSpec spec = parsed;
+    spec.threads = threads;
     const auto start = std::chrono::steady_clock::now();
     std::unique_ptr<Accel> accel = info->build(scene, spec);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

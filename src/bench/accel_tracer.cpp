@@ -20,11 +20,14 @@ public:
     AccelTracer(std::string name, AccelSpec spec) : name_(std::move(name)), spec_(std::move(spec)) {}
 
     std::string name() const override { return name_; }
-    bool parallel_build() const override { return false; }
+    bool parallel_build() const override {
+        const AccelInfo* info = find_accel(spec_.name);
+        return info && info->threaded_build;
+    }
 
-    double build(const Scene& scene, unsigned) override {
+    double build(const Scene& scene, unsigned threads) override {
         accel_.reset();  // free the old structure before building the next
-        accel_ = build_accel(spec_, scene);
+        accel_ = build_accel(spec_, scene, threads);
         return accel_->build_ms();
     }
 

@@ -82,7 +82,8 @@ Growth measure_growth(const std::string& spec, std::span<const Scene> sized, con
         std::vector<double> times;
         double total = 0.0;
         while (int(times.size()) < options.max_builds && (times.empty() || total < options.repeat_budget_ms)) {
-            const double ms = build_accel(spec, scene)->build_ms();  // destroyed before the next build
+            // One thread: the growth exponent is the algorithm's, not the machine's parallelism.
+            const double ms = build_accel(spec, scene, 1)->build_ms();  // destroyed before the next build
             times.push_back(ms);
             total += ms;
         }

@@ -65,7 +65,15 @@ public:
             return;
         }
         out_.nodes.emplace_back();
-        build(0, std::move(root), out_.bounds, 0, budget);
+        // Depth first with an explicit stack (back before front, the order nodes and leaves are
+        // written in), so the depth costs heap, not C stack.
+        std::vector<Task> stack;
+        stack.push_back({0, std::move(root), out_.bounds, 0, budget});
+        while (!stack.empty()) {
+            Task task = std::move(stack.back());
+            stack.pop_back();
+            build(task.node, std::move(task.set), task.cell, task.depth, task.budget, stack);
+        }
         for (uint32_t p : pieces_) out_.splinters.split_triangles += p > 1 ? 1 : 0;
         out_.splinters.fragments = out_.refs.size();
         if (out_.refs.size() >= (uint64_t(1) << 31)) throw Error("bsp: more than 2^31 fragments");
@@ -223,7 +231,17 @@ private:
         return ranked;
     }
 
-    void build(uint32_t node, Set set, const Aabb& cell, uint32_t depth, uint64_t budget) {
+    /// A node still to build: its fragments, cell, depth and fragment budget.
+    struct Task {
+        uint32_t node;
+        Set set;
+        Aabb cell;
+        uint32_t depth;
+        uint64_t budget;
+    };
+
+    /// Makes `node` a leaf, or an interior node whose children's tasks it pushes (back on top).
+    void build(uint32_t node, Set set, const Aabb& cell, uint32_t depth, uint64_t budget, std::vector<Task>& stack) {
         const size_t n = set.size();
         if (n <= size_t(options_.max_leaf)) return make_leaf(node, set);
         if (depth >= uint32_t(options_.max_depth)) {
@@ -276,8 +294,8 @@ private:
             const uint64_t budget_back = std::clamp<uint64_t>(share, back.size(), budget - front.size());
             const Aabb cell_back = child_cell(cell, c.plane, false), cell_front = child_cell(cell, c.plane, true);
             set = Set{};  // free the parent's fragments before descending
-            build(child, std::move(back), cell_back, depth + 1, budget_back);
-            build(child + 1, std::move(front), cell_front, depth + 1, budget - budget_back);
+            stack.push_back({child + 1, std::move(front), cell_front, depth + 1, budget - budget_back});
+            stack.push_back({child, std::move(back), cell_back, depth + 1, budget_back});
             return;
         }
         ++(over_budget ? out_.splinters.budget_capped : out_.splinters.unsplittable);

@@ -1,6 +1,8 @@
 // Binned SAH builder (Wald 2007): per axis, centroids fall into `bins` equal bins; the SAH is
 // evaluated at the bins-1 planes between them from prefix sums, and the best plane is the pivot
-// of an in-place partition.
+// of the partition. A top node is binned chunk by chunk on several threads; bins merge exactly
+// (min/max and integer counts), so the split never depends on the number of threads.
+#include <array>
 #include <vector>
 
 #include "splitter.h"
@@ -8,46 +10,82 @@
 namespace thicket::bvh_build {
 namespace {
 
+constexpr uint32_t kMaxBins = 256;  // the option's upper bound (register_bvh.cpp)
+
+/// Bins of all three axes for one range: what a chunk produces and what chunks merge into.
+struct Bins {
+    std::array<std::array<Aabb, kMaxBins>, 3> bounds;
+    std::array<std::array<uint32_t, kMaxBins>, 3> counts;
+
+    void clear(uint32_t bins) {
+        for (int a = 0; a < 3; ++a) {
+            std::fill_n(bounds[a].begin(), bins, Aabb{});
+            std::fill_n(counts[a].begin(), bins, 0u);
+        }
+    }
+    void merge(const Bins& o, uint32_t bins) {
+        for (int a = 0; a < 3; ++a)
+            for (uint32_t b = 0; b < bins; ++b) {
+                bounds[a][b].grow(o.bounds[a][b]);
+                counts[a][b] += o.counts[a][b];
+            }
+    }
+};
+
 class BinnedSahSplitter final : public Splitter {
 public:
-    explicit BinnedSahSplitter(BuildContext& ctx)
-        : Splitter(ctx), bins_(uint32_t(ctx.options.bins)), bin_bounds_(bins_), bin_counts_(bins_), right_area_(bins_),
-          right_count_(bins_) {}
+    explicit BinnedSahSplitter(BuildContext& ctx) : Splitter(ctx), bins_(uint32_t(ctx.options.bins)) {}
 
-    Split split(const NodeRange& node) override {
-        const Aabb cb = centroid_bounds(ctx_, node);
-        const auto& idx = ctx_.indices;
-        const auto& c = ctx_.prims.centroids;
+    Split split(const NodeRange& node, unsigned threads) override {
+        const bool top = node.count >= kParallelNodeSize;
+        const Aabb cb = centroid_bounds(ctx_, node, top ? threads : 1);
+        Vec3 scale;
+        for (int a = 0; a < 3; ++a) {
+            const float extent = cb.max[a] - cb.min[a];
+            scale[a] = extent > 0.0f ? float(bins_) / extent : 0.0f;
+        }
+
+        // Small nodes bin into a thread's own buffer; top nodes into one buffer per chunk,
+        // merged in chunk order.
+        thread_local Bins bins;
+        if (!top) {
+            bins.clear(bins_);
+            bin_range(node.first, node.first + node.count, cb, scale, bins);
+        } else {
+            // Top nodes are split by the build's calling thread alone, one at a time, so one
+            // set of chunk buffers serves them all.
+            partial_.resize(std::max(partial_.size(), chunk_count(node.count)));
+            for_each_chunk(node.first, node.count, threads, [&](size_t c, uint32_t lo, uint32_t hi) {
+                partial_[c].clear(bins_);
+                bin_range(lo, hi, cb, scale, partial_[c]);
+            });
+            bins.clear(bins_);
+            for (size_t c = 0; c < chunk_count(node.count); ++c) bins.merge(partial_[c], bins_);
+        }
+
         float best_cost = kInfinity;
         int best_axis = -1;
         uint32_t best_plane = 0;
+        std::array<float, kMaxBins> right_area;
+        std::array<uint32_t, kMaxBins> right_count;
         for (int axis = 0; axis < 3; ++axis) {
-            const float extent = cb.max[axis] - cb.min[axis];
-            if (!(extent > 0.0f)) continue;
-            const float scale = float(bins_) / extent;
-            std::fill(bin_bounds_.begin(), bin_bounds_.end(), Aabb{});
-            std::fill(bin_counts_.begin(), bin_counts_.end(), 0u);
-            for (uint32_t k = node.first; k < node.first + node.count; ++k) {
-                const uint32_t b = bin_of(c[idx[k]][axis], cb.min[axis], scale);
-                bin_bounds_[b].grow(ctx_.prims.bounds[idx[k]]);
-                ++bin_counts_[b];
-            }
+            if (!(scale[axis] > 0.0f)) continue;
             // Right-to-left prefix: area and count of everything right of plane p (after bin p).
             Aabb acc;
             uint32_t count = 0;
             for (uint32_t p = bins_ - 1; p > 0; --p) {
-                acc.grow(bin_bounds_[p]);
-                count += bin_counts_[p];
-                right_area_[p - 1] = acc.half_area();
-                right_count_[p - 1] = count;
+                acc.grow(bins.bounds[axis][p]);
+                count += bins.counts[axis][p];
+                right_area[p - 1] = acc.half_area();
+                right_count[p - 1] = count;
             }
             acc = Aabb{};
             count = 0;
             for (uint32_t p = 0; p + 1 < bins_; ++p) {
-                acc.grow(bin_bounds_[p]);
-                count += bin_counts_[p];
-                if (count == 0 || right_count_[p] == 0) continue;
-                const float cost = sah_split_cost(acc.half_area(), count, right_area_[p], right_count_[p],
+                acc.grow(bins.bounds[axis][p]);
+                count += bins.counts[axis][p];
+                if (count == 0 || right_count[p] == 0) continue;
+                const float cost = sah_split_cost(acc.half_area(), count, right_area[p], right_count[p],
                                                   node.bounds.half_area());
                 if (cost < best_cost) {
                     best_cost = cost;
@@ -60,19 +98,40 @@ public:
         if (best_cost >= sah_leaf_cost(node.count) && node.count <= uint32_t(ctx_.options.max_leaf)) return {};
 
         // Partition with the same bin function, so the sides match the counts evaluated above.
-        const float scale = float(bins_) / (cb.max[best_axis] - cb.min[best_axis]);
-        auto& indices = ctx_.indices;
-        uint32_t i = node.first, j = node.first + node.count;
-        while (i < j) {
-            if (bin_of(c[indices[i]][best_axis], cb.min[best_axis], scale) <= best_plane)
-                ++i;
-            else
-                std::swap(indices[i], indices[--j]);
-        }
-        return {i - node.first, best_axis};
+        const auto& c = ctx_.prims.centroids;
+        const float lo = cb.min[best_axis], s = scale[best_axis];
+        const Partition part = partition_node(ctx_, node, threads, [&](uint32_t prim) {
+            return bin_of(c[prim][best_axis], lo, s) <= best_plane;
+        });
+        Split split;
+        split.left_count = part.left;
+        split.axis = best_axis;
+        split.bounded = true;
+        split.centroids_known = true;
+        split.left_centroids = part.left_centroids;
+        split.right_centroids = part.right_centroids;
+        for (uint32_t b = 0; b < bins_; ++b)
+            (b <= best_plane ? split.left_bounds : split.right_bounds).grow(bins.bounds[best_axis][b]);
+        return split;
     }
 
 private:
+    /// Adds indices[begin, end) to the bins of every axis with a positive extent.
+    void bin_range(uint32_t begin, uint32_t end, const Aabb& cb, Vec3 scale, Bins& out) const {
+        const auto& idx = ctx_.indices;
+        const auto& c = ctx_.prims.centroids;
+        const auto& b = ctx_.prims.bounds;
+        for (uint32_t k = begin; k < end; ++k) {
+            const uint32_t prim = idx[k];
+            for (int a = 0; a < 3; ++a) {
+                if (!(scale[a] > 0.0f)) continue;
+                const uint32_t bin = bin_of(c[prim][a], cb.min[a], scale[a]);
+                out.bounds[a][bin].grow(b[prim]);
+                ++out.counts[a][bin];
+            }
+        }
+    }
+
     /// Bin of a centroid coordinate; NaN and out-of-range values clamp, never an invalid cast.
     uint32_t bin_of(float v, float lo, float scale) const {
         const float f = (v - lo) * scale;
@@ -81,10 +140,7 @@ private:
     }
 
     uint32_t bins_;
-    std::vector<Aabb> bin_bounds_;
-    std::vector<uint32_t> bin_counts_;
-    std::vector<float> right_area_;
-    std::vector<uint32_t> right_count_;
+    std::vector<Bins> partial_;  ///< per-chunk bins of the top node being split
 };
 
 }  // namespace

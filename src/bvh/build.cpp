@@ -1,20 +1,39 @@
-// The top-down BVH build shared by every builder: node pool, recursion, leaf decisions, the
-// depth bound, and the per-node child-order bytes the ordered traversals read.
+// The top-down BVH build shared by every builder: node pool, explicit stacks, leaf decisions,
+// the depth bound, the per-node child-order bytes the ordered traversals read, and the split of
+// the work between threads (top nodes together, then one subtree per task) in a way that keeps
+// the result byte-identical on any number of threads.
 #include "thicket/bvh/build.h"
 
 #include <algorithm>
 #include <numeric>
 
 #include "splitter.h"
+#include "thicket/bvh/reinsertion.h"
 #include "thicket/core/error.h"
 
 namespace thicket {
 namespace bvh_build {
 
-Aabb centroid_bounds(const BuildContext& ctx, const NodeRange& node) {
+/// Bounds over positions [first, first+count) of f(prim); a top node's chunk by chunk on
+/// `threads` threads, merged in chunk order.
+template <class Box>
+Aabb range_box(const BuildContext& ctx, uint32_t first, uint32_t count, unsigned threads, Box&& box) {
     Aabb b;
-    for (uint32_t i = node.first; i < node.first + node.count; ++i) b.grow(ctx.prims.centroids[ctx.indices[i]]);
+    if (count < kParallelNodeSize) {
+        for (uint32_t i = first; i < first + count; ++i) b.grow(box(ctx.indices[i]));
+        return b;
+    }
+    std::vector<Aabb> partial(chunk_count(count));
+    for_each_chunk(first, count, threads, [&](size_t c, uint32_t lo, uint32_t hi) {
+        for (uint32_t i = lo; i < hi; ++i) partial[c].grow(box(ctx.indices[i]));
+    });
+    for (const Aabb& p : partial) b.grow(p);
     return b;
+}
+
+Aabb centroid_bounds(const BuildContext& ctx, const NodeRange& node, unsigned threads) {
+    if (node.centroids_known) return node.centroids;
+    return range_box(ctx, node.first, node.count, threads, [&](uint32_t prim) { return ctx.prims.centroids[prim]; });
 }
 
 Split Splitter::median_split(const NodeRange& node) {
@@ -26,7 +45,7 @@ Split Splitter::median_split(const NodeRange& node) {
     std::nth_element(begin, begin + node.count / 2, begin + node.count, [&](uint32_t a, uint32_t b) {
         return c[a][axis] < c[b][axis] || (c[a][axis] == c[b][axis] && a < b);
     });
-    return {node.count / 2, axis};
+    return plain_split(node.count / 2, axis);
 }
 
 }  // namespace bvh_build
@@ -40,14 +59,9 @@ std::unique_ptr<Splitter> make_splitter(BuildContext& ctx) {
     case BvhBuilder::Midpoint: return make_midpoint_splitter(ctx);
     case BvhBuilder::BinnedSah: return make_binned_sah_splitter(ctx);
     case BvhBuilder::SweepSah: return make_sweep_sah_splitter(ctx);
+    case BvhBuilder::Lbvh: return make_lbvh_splitter(ctx);
     }
     throw Error("unknown BVH builder");
-}
-
-Aabb range_bounds(const BuildPrimitives& prims, const std::vector<uint32_t>& indices, uint32_t first, uint32_t count) {
-    Aabb b;
-    for (uint32_t i = first; i < first + count; ++i) b.grow(prims.bounds[indices[i]]);
-    return b;
 }
 
 /// Fills the centroid-axis bits of each interior node's order byte from its children's boxes.
@@ -59,6 +73,101 @@ void compute_child_order(BvhData& bvh) {
         const Vec3 cr = bvh.nodes[node.leftFirst + 1].bounds().center();
         const int axis = max_axis(abs(cr - cl));
         bvh.child_order[n] = ChildOrder::pack(ChildOrder::split_axis(bvh.child_order[n]), axis, cl[axis] > cr[axis]);
+    }
+}
+
+struct Task {
+    uint32_t node, depth;
+    bool bounded = false;  ///< the node's box is already stored (its parent's split knew it)
+    bool centroids_known = false;  ///< centroids holds its centroids' bounds
+    Aabb centroids;
+};
+
+/// The tasks of the children of a node split by `split` at pair `left`.
+std::pair<Task, Task> child_tasks(const Split& split, uint32_t left, uint32_t depth) {
+    Task l{left, depth + 1, split.bounded, split.centroids_known, split.left_centroids};
+    Task r{left + 1, depth + 1, split.bounded, split.centroids_known, split.right_centroids};
+    return {l, r};
+}
+
+/// Bounds `node` (its range in leftFirst/count) unless task.bounded, and chooses its split, on up to `threads`
+/// threads if it is a top node. left_count 0: it stays a leaf.
+Split bound_and_split(BuildContext& ctx, Splitter& splitter, BvhNode& node, const Task& task, unsigned threads) {
+    NodeRange range{node.leftFirst, node.count, node.bounds(), task.centroids_known, task.centroids};
+    if (!task.bounded) {
+        range.bounds =
+            range_box(ctx, range.first, range.count, threads, [&](uint32_t prim) { return ctx.prims.bounds[prim]; });
+        node.aabbMin = range.bounds.min;
+        node.aabbMax = range.bounds.max;
+    }
+    const uint32_t depth = task.depth;
+    if (range.count == 1) return {};
+    Split split;
+    if (depth >= kMaxSahDepth) {
+        split = splitter.median_split(range);
+    } else {
+        split = splitter.split(range, threads);
+        if (split.left_count == 0 && range.count > uint32_t(ctx.options.max_leaf)) split = splitter.median_split(range);
+    }
+    if (split.left_count >= range.count) return {};
+    return split;
+}
+
+/// Makes node `index` of `nodes` an interior node whose children are a new pair at the
+/// end of `nodes`; returns the left child's index.
+uint32_t add_children(AlignedVector<BvhNode, 64>& nodes, std::vector<uint8_t>& order, uint32_t& used, uint32_t index,
+                      const Split& split) {
+    const uint32_t left = used;
+    used += 2;
+    if (nodes.size() < used) {  // a subtree's arrays grow as used (their capacity is reserved)
+        nodes.resize(used);
+        order.resize(used);
+    }
+    BvhNode& node = nodes[index];
+    nodes[left].leftFirst = node.leftFirst;
+    nodes[left].count = split.left_count;
+    nodes[left + 1].leftFirst = node.leftFirst + split.left_count;
+    nodes[left + 1].count = node.count - split.left_count;
+    if (split.bounded) {
+        nodes[left].aabbMin = split.left_bounds.min;
+        nodes[left].aabbMax = split.left_bounds.max;
+        nodes[left + 1].aabbMin = split.right_bounds.min;
+        nodes[left + 1].aabbMax = split.right_bounds.max;
+    }
+    node.leftFirst = left;
+    node.count = 0;
+    order[index] = ChildOrder::pack(split.axis, 0, false);
+    return left;
+}
+
+/// A subtree built on one thread into its own arrays, laid out as a whole BVH is: slot 0 its
+/// root, slot 1 unused, pairs from 2, so its pairs stay 64-byte aligned once moved to an even base.
+struct Subtree {
+    AlignedVector<BvhNode, 64> nodes;
+    std::vector<uint8_t> order;
+    uint32_t used = 2;
+    uint32_t base = 0;  ///< where slot 2 lands in the final pool
+};
+
+/// Builds the subtree rooted at `root` (a copy of its node: range in leftFirst/count) depth
+/// first with an explicit stack.
+void build_subtree(BuildContext& ctx, Splitter& splitter, const BvhNode& root, const Task& root_task, Subtree& out) {
+    // Reserved, not filled: only the pages the subtree uses are ever touched.
+    out.nodes.reserve(2 * size_t(root.count));
+    out.order.reserve(2 * size_t(root.count));
+    out.nodes.resize(2);
+    out.order.resize(2);
+    out.nodes[0] = root;
+    std::vector<Task> stack{root_task};
+    stack.back().node = 0;
+    while (!stack.empty()) {
+        const Task task = stack.back();
+        stack.pop_back();
+        const Split split = bound_and_split(ctx, splitter, out.nodes[task.node], task, 1);
+        if (split.left_count == 0) continue;
+        const auto [l, r] = child_tasks(split, add_children(out.nodes, out.order, out.used, task.node, split), task.depth);
+        stack.push_back(r);
+        stack.push_back(l);
     }
 }
 
@@ -78,47 +187,66 @@ BvhData build_bvh(const BuildPrimitives& prims, const BvhBuildOptions& options) 
     bvh.nodes.resize(2 * size_t(n));
     bvh.child_order.assign(2 * size_t(n), 0);
     bvh.nodes_used = 2;
+    bvh.nodes[0].leftFirst = 0;
+    bvh.nodes[0].count = n;
 
+    const unsigned threads = resolve_threads(options.threads);
     BuildContext ctx{prims, bvh.prim_indices, options};
     std::unique_ptr<Splitter> splitter = make_splitter(ctx);
 
-    struct Task {
-        uint32_t node, depth;
-    };
-    std::vector<Task> stack{{0, 0}};
-    bvh.nodes[0].leftFirst = 0;
-    bvh.nodes[0].count = n;
+    // Top nodes, depth first, each with all threads; smaller nodes are set aside as subtree roots
+    // in the order met, which depends on the sizes alone.
+    std::vector<Task> stack{Task{0, 0, false, false, {}}}, roots;
     while (!stack.empty()) {
         const Task task = stack.back();
         stack.pop_back();
-        BvhNode& node = bvh.nodes[task.node];
-        NodeRange range{node.leftFirst, node.count, range_bounds(prims, bvh.prim_indices, node.leftFirst, node.count)};
-        node.aabbMin = range.bounds.min;
-        node.aabbMax = range.bounds.max;
-        if (range.count == 1) continue;
-
-        Split split;
-        if (task.depth >= kMaxSahDepth) {
-            split = splitter->median_split(range);
-        } else {
-            split = splitter->split(range);
-            if (split.left_count == 0 && range.count > uint32_t(options.max_leaf)) split = splitter->median_split(range);
+        if (bvh.nodes[task.node].count < kParallelNodeSize) {
+            roots.push_back(task);
+            continue;
         }
-        if (split.left_count == 0 || split.left_count >= range.count) continue;  // stays a leaf
-
-        const uint32_t left = bvh.nodes_used;
-        bvh.nodes_used += 2;
-        bvh.nodes[left].leftFirst = range.first;
-        bvh.nodes[left].count = split.left_count;
-        bvh.nodes[left + 1].leftFirst = range.first + split.left_count;
-        bvh.nodes[left + 1].count = range.count - split.left_count;
-        node.leftFirst = left;
-        node.count = 0;
-        bvh.child_order[task.node] = ChildOrder::pack(split.axis, 0, false);
-        stack.push_back({left + 1, task.depth + 1});
-        stack.push_back({left, task.depth + 1});
+        const Split split = bound_and_split(ctx, *splitter, bvh.nodes[task.node], task, threads);
+        if (split.left_count == 0) continue;
+        const auto [l, r] =
+            child_tasks(split, add_children(bvh.nodes, bvh.child_order, bvh.nodes_used, task.node, split), task.depth);
+        stack.push_back(r);
+        stack.push_back(l);
     }
+
+    // Subtrees as tasks, biggest first for balance (the order they run in changes nothing).
+    std::vector<Subtree> subtrees(roots.size());
+    std::vector<size_t> by_size(roots.size());
+    std::iota(by_size.begin(), by_size.end(), size_t(0));
+    std::stable_sort(by_size.begin(), by_size.end(),
+                     [&](size_t a, size_t b) { return bvh.nodes[roots[a].node].count > bvh.nodes[roots[b].node].count; });
+    parallel_for(roots.size(), 1, threads, [&](size_t begin, size_t end) {
+        for (size_t k = begin; k < end; ++k) {
+            const Task& root = roots[by_size[k]];
+            build_subtree(ctx, *splitter, bvh.nodes[root.node], root, subtrees[by_size[k]]);
+        }
+    });
+
+    // Each subtree's pairs go after the top nodes, in the order their roots were met.
+    for (Subtree& s : subtrees) {
+        s.base = bvh.nodes_used;
+        bvh.nodes_used += s.used - 2;
+    }
+    parallel_for(roots.size(), 1, threads, [&](size_t begin, size_t end) {
+        for (size_t k = begin; k < end; ++k) {
+            const Subtree& s = subtrees[k];
+            auto place = [&](BvhNode node) {  // local pair index -> pool index
+                if (!node.is_leaf()) node.leftFirst = node.leftFirst - 2 + s.base;
+                return node;
+            };
+            bvh.nodes[roots[k].node] = place(s.nodes[0]);
+            bvh.child_order[roots[k].node] = s.order[0];
+            for (uint32_t i = 2; i < s.used; ++i) {
+                bvh.nodes[s.base + i - 2] = place(s.nodes[i]);
+                bvh.child_order[s.base + i - 2] = s.order[i];
+            }
+        }
+    });
     compute_child_order(bvh);
+    if (options.optimize == BvhOptimize::Reinsertion) optimize_reinsertion(bvh, options.optimize_passes);
     return bvh;
 }
 

@@ -9,22 +9,16 @@ class MidpointSplitter final : public Splitter {
 public:
     using Splitter::Splitter;
 
-    Split split(const NodeRange& node) override {
-        const Aabb cb = centroid_bounds(ctx_, node);
+    Split split(const NodeRange& node, unsigned threads) override {
+        const Aabb cb = centroid_bounds(ctx_, node, node.count >= kParallelNodeSize ? threads : 1);
         const int axis = max_axis(cb.extent());
         const float pos = cb.center()[axis];
         if (!(cb.extent()[axis] > 0.0f)) return {};
-
         auto& idx = ctx_.indices;
         const auto& c = ctx_.prims.centroids;
-        uint32_t i = node.first, j = node.first + node.count;  // [first, i) left, [j, end) right
-        while (i < j) {
-            if (c[idx[i]][axis] < pos)
-                ++i;
-            else
-                std::swap(idx[i], idx[--j]);
-        }
-        const uint32_t left = i - node.first;
+        const Partition part = partition_node(ctx_, node, threads, [&](uint32_t prim) { return c[prim][axis] < pos; });
+        const uint32_t left = part.left;
+        const uint32_t i = node.first + left;
         if (left == 0 || left == node.count) return {};
 
         Aabb lb, rb;
@@ -32,7 +26,16 @@ public:
         for (uint32_t k = i; k < node.first + node.count; ++k) rb.grow(ctx_.prims.bounds[idx[k]]);
         const float cost = sah_split_cost(lb.half_area(), left, rb.half_area(), node.count - left, node.bounds.half_area());
         if (cost >= sah_leaf_cost(node.count) && node.count <= uint32_t(ctx_.options.max_leaf)) return {};
-        return {left, axis};
+        Split split;
+        split.left_count = left;
+        split.axis = axis;
+        split.bounded = true;
+        split.left_bounds = lb;
+        split.right_bounds = rb;
+        split.centroids_known = true;
+        split.left_centroids = part.left_centroids;
+        split.right_centroids = part.right_centroids;
+        return split;
     }
 };
 

@@ -22,6 +22,9 @@ BvhBuildOptions build_options(const AccelSpec& spec) {
     o.builder = spec.choice("builder", kBvhBuilders);
     o.bins = int(spec.get_int("bins"));
     o.max_leaf = int(spec.get_int("max-leaf"));
+    o.threads = spec.threads;
+    o.optimize = spec.choice("optimize", kBvhOptimizers);
+    o.optimize_passes = int(spec.get_int("passes"));
     return o;
 }
 
@@ -35,7 +38,8 @@ void register_bvh(std::vector<AccelInfo>& registry) {
     info.summary = "the lecture's BVH: 32-byte nodes, node pool, in-place partition, SAH leaves";
     info.partitioning = Partitioning::Object;
     info.options = {
-        choice_option("builder", "split choice: longest-axis midpoint, binned SAH (Wald 2007), or a full SAH sweep",
+        choice_option("builder", "split choice: longest-axis midpoint, binned SAH (Wald 2007), a full SAH sweep, or the linear "
+                      "Morton-order builder (Karras 2012: fastest build, looser tree)",
                       BvhBuilder::BinnedSah, kBvhBuilders),
         {"bins", "bins per axis for binned-sah", "8", {}, 2, 256},
         {"max-leaf", "largest leaf; bigger nodes are split even when the SAH would stop", "8", {}, 1, 255},
@@ -44,12 +48,16 @@ void register_bvh(std::vector<AccelInfo>& registry) {
                       "the ray's sign on the stored split axis, or on the axis of widest child-centroid separation",
                       BvhTraversal::OrderedDistance, kTraversals),
     };
+    for (OptionInfo& o : bvh_optimize_options()) info.options.push_back(std::move(o));
     for (const auto& builder : kBvhBuilders)
         for (const auto& traversal : kTraversals)
             info.variants.push_back(std::string("bvh:builder=") + builder.name + ",traversal=" + traversal.name);
     info.variants.push_back("bvh:builder=binned-sah,traversal=ordered-distance,isect=watertight");
     info.variants.push_back("bvh:builder=binned-sah,bins=32,max-leaf=1,traversal=ordered-distance");
+    info.variants.push_back("bvh:builder=binned-sah,optimize=reinsertion,traversal=ordered-axis");
+    info.variants.push_back("bvh:builder=lbvh,optimize=reinsertion,max-leaf=1,traversal=ordered-centroid");
 
+    info.threaded_build = true;
     info.build = [](const Scene& scene, const AccelSpec& spec) {
         return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
             return std::make_unique<Bvh<decltype(prims)>>(std::move(prims), build_options(spec), traversal_option(spec));

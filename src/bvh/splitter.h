@@ -1,23 +1,49 @@
 #pragma once
 // Internal to the BVH builders: the one thing a builder decides is how to split a node.
+#include <algorithm>
+#include <cstddef>
 #include <memory>
 #include <vector>
 
 #include "thicket/bvh/build.h"
 #include "thicket/core/ray.h"
 #include "thicket/core/sah.h"
+#include "thicket/util/parallel.h"
 
 namespace thicket::bvh_build {
 
 struct NodeRange {
     uint32_t first = 0, count = 0;
-    Aabb bounds;  ///< of the primitives' bounds in the range
+    Aabb bounds;                   ///< of the primitives' bounds in the range
+    bool centroids_known = false;  ///< centroids holds their centroids' bounds (the parent's partition found them)
+    Aabb centroids;
 };
 
 /// left_count == 0 means "make a leaf"; otherwise indices[first, first+left_count) is the left child.
 struct Split {
     uint32_t left_count = 0;
     int axis = 0;  ///< the left child lies on the lower side of this axis
+    /// The children's boxes when the splitter has them anyway (bins, a sweep): the build then
+    /// skips one pass over each child's primitives. Exactly what that pass would compute.
+    bool bounded = false;
+    Aabb left_bounds, right_bounds;
+    /// The children's centroid bounds when the partition found them (partition_node does).
+    bool centroids_known = false;
+    Aabb left_centroids, right_centroids;
+};
+
+/// A split without any boxes: left_count and axis only.
+inline Split plain_split(uint32_t left_count, int axis) {
+    Split s;
+    s.left_count = left_count;
+    s.axis = axis;
+    return s;
+}
+
+/// What partition_node did: the left side's size and both sides' centroid bounds.
+struct Partition {
+    uint32_t left = 0;
+    Aabb left_centroids, right_centroids;
 };
 
 struct BuildContext {
@@ -38,16 +64,112 @@ inline float sah_split_cost(float left_half_area, uint32_t left_count, float rig
 
 inline float sah_leaf_cost(uint32_t count) { return kSahIntersectionCost * float(count); }
 
-/// Bounds of the centroids of indices[first, first+count).
-Aabb centroid_bounds(const BuildContext& ctx, const NodeRange& node);
+/// A top node's loops run over at most kMaxChunks chunks of at least kMinChunk primitives: a
+/// function of the node's size alone, so the chunks, and hence every result merged in chunk
+/// order, are the same whatever the number of threads.
+inline constexpr uint32_t kMinChunk = 4096;
+inline constexpr uint32_t kMaxChunks = 64;
 
+/// Chunk length for a range of `count` primitives.
+inline uint32_t chunk_size(uint32_t count) { return std::max(kMinChunk, (count + kMaxChunks - 1) / kMaxChunks); }
+/// Number of chunks of a range of `count` primitives.
+inline size_t chunk_count(uint32_t count) { return (size_t(count) + chunk_size(count) - 1) / chunk_size(count); }
+
+/// Calls f(chunk, begin, end) for the chunks of positions [first, first+count) on up to
+/// `threads` threads.
+template <class F>
+void for_each_chunk(uint32_t first, uint32_t count, unsigned threads, F&& f) {
+    const uint32_t size = chunk_size(count);
+    parallel_for(chunk_count(count), 1, threads, [&](size_t begin, size_t end) {
+        for (size_t c = begin; c < end; ++c) {
+            const uint32_t lo = first + uint32_t(c) * size;
+            f(c, lo, lo + std::min(size, first + count - lo));
+        }
+    });
+}
+
+/// Bounds of the centroids of indices[first, first+count) (node.centroids when known); a top
+/// node's on `threads` threads.
+Aabb centroid_bounds(const BuildContext& ctx, const NodeRange& node, unsigned threads = 1);
+
+/// Reorders the node's range so the primitives with goes_left(prim) come first; returns how
+/// many they are and both sides' centroid bounds (gathered on the way: the children need not
+/// scan their centroids again). A top node (kParallelNodeSize or more) is partitioned stably,
+/// chunk by chunk on `threads` threads through a scratch copy; a smaller one in place,
+/// quicksort-style.
+template <class GoesLeft>
+Partition partition_node(BuildContext& ctx, const NodeRange& node, unsigned threads, GoesLeft&& goes_left) {
+    auto& idx = ctx.indices;
+    const auto& cen = ctx.prims.centroids;
+    Partition out;
+    if (node.count < kParallelNodeSize) {
+        uint32_t i = node.first, j = node.first + node.count;  // [first, i) left, [j, end) right
+        while (i < j) {
+            if (goes_left(idx[i])) {
+                out.left_centroids.grow(cen[idx[i]]);
+                ++i;
+            } else {
+                std::swap(idx[i], idx[--j]);
+                out.right_centroids.grow(cen[idx[j]]);
+            }
+        }
+        out.left = i - node.first;
+        return out;
+    }
+    const size_t chunks = chunk_count(node.count);
+    std::vector<uint32_t> lefts(chunks);
+    std::vector<uint8_t> side(node.count);
+    std::vector<Aabb> left_cb(chunks), right_cb(chunks);
+    for_each_chunk(node.first, node.count, threads, [&](size_t c, uint32_t lo, uint32_t hi) {
+        uint32_t n = 0;
+        for (uint32_t k = lo; k < hi; ++k) {
+            const bool left = goes_left(idx[k]);
+            side[k - node.first] = left ? 1 : 0;
+            n += left ? 1 : 0;
+            (left ? left_cb[c] : right_cb[c]).grow(cen[idx[k]]);
+        }
+        lefts[c] = n;
+    });
+    for (size_t c = 0; c < chunks; ++c) {  // in chunk order: the same boxes on any thread count
+        out.left_centroids.grow(left_cb[c]);
+        out.right_centroids.grow(right_cb[c]);
+    }
+    std::vector<uint32_t> left_at(chunks), right_at(chunks);  // where each chunk's sides go
+    uint32_t left_total = 0;
+    for (size_t c = 0; c < chunks; ++c) left_total += lefts[c];
+    uint32_t l = 0, r = left_total;
+    for (size_t c = 0; c < chunks; ++c) {
+        const uint32_t size = std::min(chunk_size(node.count), node.count - uint32_t(c) * chunk_size(node.count));
+        left_at[c] = l;
+        right_at[c] = r;
+        l += lefts[c];
+        r += size - lefts[c];
+    }
+    std::vector<uint32_t> scratch(node.count);
+    for_each_chunk(node.first, node.count, threads, [&](size_t c, uint32_t lo, uint32_t hi) {
+        uint32_t a = left_at[c], b = right_at[c];
+        for (uint32_t k = lo; k < hi; ++k) scratch[side[k - node.first] ? a++ : b++] = idx[k];
+    });
+    parallel_for(node.count, chunk_size(node.count), threads, [&](size_t begin, size_t end) {
+        std::copy(scratch.begin() + ptrdiff_t(begin), scratch.begin() + ptrdiff_t(end),
+                  idx.begin() + ptrdiff_t(node.first + begin));
+    });
+    out.left = left_total;
+    return out;
+}
+
+/// Chooses how to split a node. One splitter serves a whole build and may be called from several
+/// threads at once, on disjoint ranges: whatever state it keeps is indexed by range position or
+/// primitive, never shared scratch.
 class Splitter {
 public:
     explicit Splitter(BuildContext& ctx) : ctx_(ctx) {}
     virtual ~Splitter() = default;
     /// Chooses a split and reorders the range so the left child's primitives come first; returns
     /// a leaf (left_count 0) when no split exists or the SAH prefers a leaf and count <= max_leaf.
-    virtual Split split(const NodeRange& node) = 0;
+    /// `threads` may be used for a node of kParallelNodeSize primitives or more; the result must
+    /// not depend on it.
+    virtual Split split(const NodeRange& node, unsigned threads) = 0;
     /// Always splits a range of count >= 2 in two halves by count (object median on the widest
     /// centroid axis); used when no good split exists but the node is too big, and past
     /// kMaxSahDepth to bound the depth.
@@ -60,5 +182,6 @@ protected:
 std::unique_ptr<Splitter> make_midpoint_splitter(BuildContext& ctx);
 std::unique_ptr<Splitter> make_binned_sah_splitter(BuildContext& ctx);
 std::unique_ptr<Splitter> make_sweep_sah_splitter(BuildContext& ctx);
+std::unique_ptr<Splitter> make_lbvh_splitter(BuildContext& ctx);
 
 }  // namespace thicket::bvh_build

@@ -15,19 +15,24 @@ public:
     explicit SweepSahSplitter(BuildContext& ctx) : Splitter(ctx) {
         const size_t n = ctx.indices.size();
         const auto& c = ctx.prims.centroids;
-        for (int axis = 0; axis < 3; ++axis) {
-            sorted_[axis].resize(n);
-            std::iota(sorted_[axis].begin(), sorted_[axis].end(), 0u);
-            std::sort(sorted_[axis].begin(), sorted_[axis].end(), [&](uint32_t a, uint32_t b) {
-                return c[a][axis] < c[b][axis] || (c[a][axis] == c[b][axis] && a < b);
-            });
-        }
+        // The three sorts are independent: one per thread.
+        parallel_for(3, 1, ctx.options.threads, [&](size_t begin, size_t end) {
+            for (size_t a = begin; a < end; ++a) {
+                const int axis = int(a);
+                std::vector<uint32_t>& order = sorted_[a];
+                order.resize(n);
+                std::iota(order.begin(), order.end(), 0u);
+                std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+                    return c[a][axis] < c[b][axis] || (c[a][axis] == c[b][axis] && a < b);
+                });
+            }
+        });
         goes_left_.resize(n);
         right_area_.resize(n);
         scratch_.resize(n);
     }
 
-    Split split(const NodeRange& node) override {
+    Split split(const NodeRange& node, unsigned) override {
         float best_cost = kInfinity;
         int best_axis = -1;
         uint32_t best_left = 0;
@@ -35,15 +40,16 @@ public:
         for (int axis = 0; axis < 3; ++axis) {
             const uint32_t* order = sorted_[axis].data() + node.first;
             Aabb acc;
-            for (uint32_t k = node.count; k-- > 1;) {  // right_area_[k]: area of order[k..count)
+            float* right_area = right_area_.data() + node.first;  // this range's own slots
+            for (uint32_t k = node.count; k-- > 1;) {  // right_area[k]: area of order[k..count)
                 acc.grow(bounds[order[k]]);
-                right_area_[k] = acc.half_area();
+                right_area[k] = acc.half_area();
             }
             acc = Aabb{};
             for (uint32_t k = 1; k < node.count; ++k) {  // left = order[0..k)
                 acc.grow(bounds[order[k - 1]]);
                 const float cost =
-                    sah_split_cost(acc.half_area(), k, right_area_[k], node.count - k, node.bounds.half_area());
+                    sah_split_cost(acc.half_area(), k, right_area[k], node.count - k, node.bounds.half_area());
                 if (cost < best_cost) {
                     best_cost = cost;
                     best_axis = axis;
@@ -54,7 +60,7 @@ public:
         if (best_axis < 0) return {};
         if (best_cost >= sah_leaf_cost(node.count) && node.count <= uint32_t(ctx_.options.max_leaf)) return {};
         apply(node, best_axis, best_left);
-        return {best_left, best_axis};
+        return plain_split(best_left, best_axis);
     }
 
     Split median_split(const NodeRange& node) override {
@@ -66,7 +72,7 @@ public:
             if (extent > widest) widest = extent, axis = a;
         }
         apply(node, axis, node.count / 2);
-        return {node.count / 2, axis};
+        return plain_split(node.count / 2, axis);
     }
 
 private:
@@ -78,14 +84,14 @@ private:
         for (int a = 0; a < 3; ++a) {
             if (a == axis) continue;
             uint32_t* order = sorted_[a].data();
-            uint32_t l = begin, r = 0;
+            uint32_t l = begin, r = begin;  // scratch_ slots of this range only: tasks run at once
             for (uint32_t k = begin; k < end; ++k) {
                 if (goes_left_[order[k]])
                     order[l++] = order[k];
                 else
                     scratch_[r++] = order[k];
             }
-            std::copy(scratch_.begin(), scratch_.begin() + r, order + l);
+            std::copy(scratch_.begin() + begin, scratch_.begin() + r, order + l);
         }
         std::copy(sorted_[axis].begin() + begin, sorted_[axis].begin() + end, ctx_.indices.begin() + begin);
     }

@@ -20,18 +20,28 @@ public:
     Collapser(const BvhData& binary, const LeafEmitter& emit, Tree& tree, uint32_t merge_below)
         : bin_(binary), emit_(emit), tree_(tree), merge_below_(merge_below) {}
 
+    /// A binary node whose 8-wide node is still to be emitted, and the lane that will point to it.
+    struct Pending {
+        uint32_t binary;
+        size_t depth;
+        uint32_t parent, lane;  ///< parent == kNoParent for the root
+    };
+    static constexpr uint32_t kNoParent = ~0u;
+
     /// Emits the 8-wide node whose children are binary node `b`'s (b itself if it is a leaf,
-    /// which happens only at the root); returns its index.
-    uint32_t emit_node(uint32_t b, size_t depth) {
+    /// which happens only at the root); returns its index. Its interior children are pushed on
+    /// `stack` (first lane on top) to be emitted next, depth first.
+    uint32_t emit_node(uint32_t b, size_t depth, std::vector<Pending>& stack) {
         tree_.max_depth = std::max(tree_.max_depth, depth);
         const uint32_t index = uint32_t(tree_.nodes.size());
         tree_.nodes.emplace_back();
-        std::vector<uint32_t> kids;
+        StaticKids kids;
         const BvhNode& bn = bin_.nodes[b];
         if (is_leaf(b)) {
             kids.push_back(b);
         } else {
-            kids = {bn.leftFirst, bn.leftFirst + 1};
+            kids.push_back(bn.leftFirst);
+            kids.push_back(bn.leftFirst + 1);
         }
         while (kids.size() < size_t(kWidth)) {
             int widest = -1;
@@ -86,11 +96,11 @@ public:
         const double area_ratio = root_area > 0 ? double(node_box.area()) / root_area : 0.0;
         tree_.sah_cost += kSahTraversalCost * area_ratio;
         tree_.embree_sah_cost += area_ratio;
-        // Children after the parent: depth-first order, and the vector may reallocate meanwhile.
-        for (size_t lane = 0; lane < kids.size(); ++lane)
-            if ((node.valid >> lane & 1) && !is_leaf(kids[lane]))
-                node.child[lane] = emit_node(kids[lane], depth + 1);
         tree_.nodes[index] = node;
+        // Children after the parent, depth first: the last lane pushed first, so lane 0 is next.
+        for (size_t lane = kids.size(); lane-- > 0;)
+            if ((node.valid >> lane & 1) && !is_leaf(kids[lane]))
+                stack.push_back({kids[lane], depth + 1, index, uint32_t(lane)});
         return index;
     }
 
@@ -98,26 +108,43 @@ public:
         if (bin_.nodes_used == 0) return;
         count_.assign(bin_.nodes.size(), 0);
         first_.assign(bin_.nodes.size(), 0);
-        count_subtree(0);
+        count_subtrees();
         tree_.bounds = bin_.nodes[0].bounds();
         root_area_ = tree_.bounds.area();
-        emit_node(0, 1);
+        std::vector<Pending> stack{{0, 1, kNoParent, 0}};
+        while (!stack.empty()) {
+            const Pending p = stack.back();
+            stack.pop_back();
+            const uint32_t index = emit_node(p.binary, p.depth, stack);
+            if (p.parent != kNoParent) tree_.nodes[p.parent].child[p.lane] = index;
+        }
     }
 
 private:
-    /// Primitives under binary node n: a subtree's are contiguous in prim_indices (the builders
-    /// partition in place), so they are one range.
-    void count_subtree(uint32_t n) {
-        const BvhNode& node = bin_.nodes[n];
-        if (node.is_leaf()) {
-            count_[n] = node.count;
-            first_[n] = node.leftFirst;
-            return;
+    /// Up to 8 lanes' binary nodes, without a heap allocation per 8-wide node.
+    struct StaticKids {
+        uint32_t items[kWidth];
+        size_t n = 0;
+        size_t size() const { return n; }
+        void push_back(uint32_t v) { items[n++] = v; }
+        uint32_t& operator[](size_t i) { return items[i]; }
+    };
+
+    /// Primitives under each binary node: a subtree's are contiguous in prim_indices (the
+    /// builders partition in place), so they are one range. Children come after their parent in
+    /// the pool, so one backward pass sees every child before its parent.
+    void count_subtrees() {
+        for (uint32_t n = bin_.nodes_used; n-- > 0;) {
+            if (n == 1) continue;  // the unused slot
+            const BvhNode& node = bin_.nodes[n];
+            if (node.is_leaf()) {
+                count_[n] = node.count;
+                first_[n] = node.leftFirst;
+                continue;
+            }
+            count_[n] = count_[node.leftFirst] + count_[node.leftFirst + 1];
+            first_[n] = std::min(first_[node.leftFirst], first_[node.leftFirst + 1]);
         }
-        count_subtree(node.leftFirst);
-        count_subtree(node.leftFirst + 1);
-        count_[n] = count_[node.leftFirst] + count_[node.leftFirst + 1];
-        first_[n] = std::min(first_[node.leftFirst], first_[node.leftFirst + 1]);
     }
 
     /// A binary leaf, or a subtree small enough to become one: its primitives fill one

@@ -5,6 +5,9 @@
 
 #include <string>
 #include <string_view>
+#include <utility>
+
+#include "thicket/core/error.h"
 
 namespace thicket {
 
@@ -15,11 +18,43 @@ constexpr Choice<std::string_view> kIsas[] = {
 };
 constexpr Choice<bool> kOnOff[] = {{"on", true}, {"off", false}};
 
-Bvh8Options bvh8_options(const AccelSpec& spec) {
+enum class Quality { Custom, Low, Medium, High };
+constexpr Choice<Quality> kQualities[] = {
+    {"custom", Quality::Custom}, {"low", Quality::Low}, {"medium", Quality::Medium}, {"high", Quality::High}};
+
+// The defaults of the keys a preset sets; register_bvh8 lists these same strings as the defaults.
+constexpr const char* kDefaultBuilder = "binned-sah";
+constexpr const char* kDefaultBins = "16";
+
+/// The builder settings of a quality preset, as spec values. A preset sets builder and bins; a
+/// spec that also gives either a value other than its default asks for two things at once.
+void apply_quality(AccelSpec& spec) {
+    const Quality q = spec.choice("quality", kQualities);
+    if (q == Quality::Custom) return;
+    const std::string builder = q == Quality::Low ? "lbvh" : q == Quality::Medium ? "binned-sah" : "sweep-sah";
+    const std::string bins = kDefaultBins;
+    const std::string optimize = q == Quality::High ? "reinsertion" : "none";
+    for (const auto& [key, default_value] : {std::pair<std::string, std::string>{"builder", kDefaultBuilder},
+                                             std::pair<std::string, std::string>{"bins", kDefaultBins},
+                                             std::pair<std::string, std::string>{"optimize", "none"}}) {
+        if (spec.get(key) != default_value)
+            throw Error("bvh8: quality=" + spec.get("quality") + " sets " + key + " itself; drop " + key + "=" +
+                        spec.get(key) + " or use quality=custom");
+    }
+    spec.options["builder"] = builder;
+    spec.options["bins"] = bins;
+    spec.options["optimize"] = optimize;
+}
+
+Bvh8Options bvh8_options(AccelSpec spec) {
+    apply_quality(spec);
     Bvh8Options o;
     o.binary.builder = spec.choice("builder", kBvhBuilders);
     o.binary.bins = int(spec.get_int("bins"));
     o.binary.max_leaf = int(spec.get_int("max-leaf"));
+    o.binary.threads = spec.threads;
+    o.binary.optimize = spec.choice("optimize", kBvhOptimizers);
+    o.binary.optimize_passes = int(spec.get_int("passes"));
     o.merge_below = uint32_t(spec.get_int("leaf-merge"));
     o.isa = bvh8::resolve_isa(std::string(spec.choice("isa", kIsas)));
     o.packets = spec.choice("packets", kOnOff);
@@ -36,7 +71,13 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
     info.options = {
         choice_option("builder", "the binary BVH builder whose tree is collapsed to 8 wide", BvhBuilder::BinnedSah,
                       kBvhBuilders),
-        {"bins", "bins per axis for binned-sah", "16", {}, 2, 256},
+        {"bins", "bins per axis for binned-sah", kDefaultBins, {}, 2, 256},
+        choice_option("quality",
+                      "builder preset: low = builder=lbvh (fastest build), medium = builder=binned-sah,bins=16 "
+                      "(parallel binned SAH), high = builder=sweep-sah,optimize=reinsertion (full SAH sweep, then "
+                      "reinsertion); custom = the builder, bins and optimize keys as given (a preset with another "
+                      "value of one of them is an error)",
+                      Quality::Custom, kQualities),
         {"max-leaf", "largest binary leaf (one 4-triangle block per 4)", "4", {}, 1, 255},
         {"leaf-merge",
          "binary subtrees of at most this many primitives become one leaf: 4 fills one block; 8 trades "
@@ -51,6 +92,7 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
                       "bench's primary set) are traced 16 rays at a time through the packet kernels; same answers",
                       true, kOnOff),
     };
+    for (OptionInfo& o : bvh_optimize_options()) info.options.push_back(std::move(o));
     for (bvh8::Isa isa : bvh8::cpu_isas()) {
         const std::string level = bvh8::isa_name(isa);
         info.variants.push_back("bvh8:isa=" + level);
@@ -58,7 +100,11 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
     }
     info.variants.push_back("bvh8:builder=sweep-sah,max-leaf=8,leaf-merge=8");
     info.variants.push_back("bvh8:builder=midpoint,max-leaf=1");
+    info.variants.push_back("bvh8:builder=lbvh");
+    info.variants.push_back("bvh8:quality=low");
+    info.variants.push_back("bvh8:quality=high");
 
+    info.threaded_build = true;
     info.build = [](const Scene& scene, const AccelSpec& spec) {
         const Bvh8Options options = bvh8_options(spec);
         return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {

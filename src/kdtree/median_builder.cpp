@@ -22,11 +22,28 @@ public:
         std::vector<Ref> refs;
         refs.reserve(prims.size());
         for (uint32_t p : prims) refs.push_back({p, input_.bounds[p]});
-        node(std::move(refs), root, 0);
+        // Depth first with an explicit stack (left child first, as the tree is written).
+        std::vector<Task> stack;
+        stack.push_back({std::move(refs), root, 0, kNoAbove});
+        while (!stack.empty()) {
+            Task task = std::move(stack.back());
+            stack.pop_back();
+            if (task.above != kNoAbove) out_.start_above(task.above);
+            node(std::move(task.refs), task.voxel, task.depth, stack);
+        }
     }
 
 private:
-    void node(std::vector<Ref> refs, const Aabb& voxel, uint32_t depth) {
+    static constexpr uint32_t kNoAbove = ~0u;
+    /// A subtree still to build; `above` is its parent when it is a right child.
+    struct Task {
+        std::vector<Ref> refs;
+        Aabb voxel;
+        uint32_t depth, above;
+    };
+
+    /// Writes the node of `refs` in `voxel`: a leaf, or an interior node whose children it pushes.
+    void node(std::vector<Ref> refs, const Aabb& voxel, uint32_t depth, std::vector<Task>& stack) {
         const int axis = max_axis(voxel.extent());
         const float pos = voxel.center()[axis];
         uint32_t nl = 0, np = 0, nr = 0;
@@ -63,9 +80,8 @@ private:
         }
         std::vector<Ref>().swap(refs);
         const uint32_t me = out_.interior(axis, pos);
-        node(std::move(left), left_voxel, depth + 1);
-        out_.start_above(me);
-        node(std::move(right), right_voxel, depth + 1);
+        stack.push_back({std::move(right), right_voxel, depth + 1, me});
+        stack.push_back({std::move(left), left_voxel, depth + 1, kNoAbove});
     }
 
     const KdBuildInput& input_;

@@ -61,12 +61,33 @@ public:
         for (auto& e : ev) e.reserve(2 * prims.size());
         for (uint32_t p : prims) add_events(ev, p, input_.bounds[p]);
         for (auto& e : ev) std::sort(e.begin(), e.end());
-        node(std::move(ev), root, uint32_t(prims.size()), 0);
+        // Depth first with an explicit stack (left child first, as the tree is written), so the
+        // depth costs heap, not C stack.
+        std::vector<Task> stack;
+        stack.push_back({std::move(ev), root, uint32_t(prims.size()), 0, kNoAbove});
+        while (!stack.empty()) {
+            Task task = std::move(stack.back());
+            stack.pop_back();
+            if (task.above != kNoAbove) out_.start_above(task.above);
+            node(std::move(task), stack);
+        }
     }
 
 private:
-    /// Builds the subtree of `voxel` holding `count` primitives, whose events are `ev`.
-    void node(Events ev, const Aabb& voxel, uint32_t count, uint32_t depth) {
+    static constexpr uint32_t kNoAbove = ~0u;
+    /// A subtree still to build: `voxel` holding `count` primitives whose events are `ev`; its
+    /// parent is `above` when it is a right child (the writer must be told before it starts).
+    struct Task {
+        Events ev;
+        Aabb voxel;
+        uint32_t count, depth, above;
+    };
+
+    /// Writes task's node: a leaf, or an interior node whose children's tasks it pushes.
+    void node(Task task, std::vector<Task>& stack) {
+        Events& ev = task.ev;
+        const Aabb& voxel = task.voxel;
+        const uint32_t count = task.count, depth = task.depth;
         Plane plane;
         if (count > 0 && depth < max_depth_) plane = find_plane(ev, voxel, count);
         if (plane.axis < 0 || !(plane.cost < kd_leaf_cost(cost_, count))) {
@@ -82,9 +103,9 @@ private:
         split_events(ev, plane, left_voxel, right_voxel, left, right, left_count, right_count);
 
         const uint32_t me = out_.interior(plane.axis, plane.pos);
-        node(std::move(left), left_voxel, left_count, depth + 1);
-        out_.start_above(me);
-        node(std::move(right), right_voxel, right_count, depth + 1);
+        Events().swap(ev);  // free the parent's events before descending
+        stack.push_back({std::move(right), right_voxel, right_count, depth + 1, me});
+        stack.push_back({std::move(left), left_voxel, left_count, depth + 1, kNoAbove});
     }
 
     /// The sweep: per axis, visit the distinct event positions in order with the counts of

@@ -327,6 +327,40 @@ TEST_F(CliTest, BuildThenTraceLoadedStructure) {
     EXPECT_FALSE(fs::exists(path("bad_hits.npy")));
 }
 
+// `thicket build --threads N` writes the same file for any N, on a scene big enough that the top
+// of the tree is split by several threads together (kParallelNodeSize) and below it subtrees run
+// as tasks.
+TEST_F(CliTest, BuildWritesTheSameFileOnAnyNumberOfThreads) {
+    std::ofstream obj(path("soup.obj"));
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(0.0f, 100.0f), d(-0.5f, 0.5f);
+    const int triangles = 40000;
+    for (int t = 0; t < triangles; ++t) {
+        const float x = u(rng), y = u(rng) * (t % 3 ? 1.0f : 0.1f), z = u(rng);
+        obj << "v " << x << ' ' << y << ' ' << z << "\nv " << x + d(rng) << ' ' << y + d(rng) << ' ' << z
+            << "\nv " << x << ' ' << y + d(rng) << ' ' << z + d(rng) << '\n';
+    }
+    for (int t = 0; t < triangles; ++t) obj << "f " << 3 * t + 1 << ' ' << 3 * t + 2 << ' ' << 3 * t + 3 << '\n';
+    obj.close();
+    for (const char* spec : {"bvh", "bvh:builder=sweep-sah,max-leaf=2"}) {
+        std::string first;
+        for (int threads : {1, 2, 5}) {
+            const std::string out = path("t" + std::to_string(threads) + ".bvh");
+            const RunResult r = run_cli("build " + q("soup.obj") + " --accel " + spec + " --threads " +
+                                        std::to_string(threads) + " -o " + quote(out));
+            ASSERT_EQ(r.code, 0) << r.output;
+            std::ifstream in(out, std::ios::binary);
+            const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+            ASSERT_GT(bytes.size(), size_t(triangles) * 4) << spec;
+            if (first.empty())
+                first = bytes;
+            else
+                EXPECT_TRUE(bytes == first) << spec << ": the file on " << threads << " threads differs from 1 thread's";
+            fs::remove(out);
+        }
+    }
+}
+
 TEST_F(CliTest, InfoDescribesSceneAndStructure) {
     const RunResult r = run_cli("info cornell --accel bvh");
     ASSERT_EQ(r.code, 0) << r.output;

@@ -135,6 +135,39 @@ TEST(Bvh8Tree, StatsReportIsaAndBothSahMetrics) {
     EXPECT_LT(std::stod(extra(s, "Embree SAH")), s.sah_cost);
 }
 
+TEST(Bvh8Quality, PresetsBuildTheTreesOfTheSettingsTheyStandFor) {
+    const Scene scene = soup();
+    auto same_tree = [&](const std::string& preset, const std::string& settings) {
+        const AccelStats a = build_accel("bvh8:" + preset, scene)->stats();
+        const AccelStats b = build_accel("bvh8:" + settings, scene)->stats();
+        EXPECT_EQ(a.nodes, b.nodes) << preset;
+        EXPECT_EQ(a.sah_cost, b.sah_cost) << preset;
+        EXPECT_EQ(extra(a, "Embree SAH"), extra(b, "Embree SAH")) << preset;
+    };
+    same_tree("quality=low", "builder=lbvh");
+    same_tree("quality=medium", "builder=binned-sah,bins=16");
+    same_tree("quality=high", "builder=sweep-sah,optimize=reinsertion");
+    // The presets differ from each other (else the mapping above would prove nothing).
+    EXPECT_NE(build_accel("bvh8:quality=low", scene)->stats().sah_cost,
+              build_accel("bvh8:quality=high", scene)->stats().sah_cost);
+}
+
+TEST(Bvh8Quality, APresetWithItsOwnBuilderOrBinsIsAnErrorNamingBoth) {
+    const Scene scene = soup();
+    for (const char* spec : {"bvh8:quality=high,builder=midpoint", "bvh8:quality=low,bins=32"}) {
+        try {
+            build_accel(spec, scene);
+            ADD_FAILURE() << spec << " was accepted";
+        } catch (const Error& e) {
+            const std::string msg = e.what();
+            EXPECT_NE(msg.find("quality="), std::string::npos) << msg;
+            EXPECT_TRUE(msg.find("builder=midpoint") != std::string::npos || msg.find("bins=32") != std::string::npos)
+                << msg;
+        }
+    }
+    EXPECT_NO_THROW(build_accel("bvh8:quality=medium,builder=binned-sah,max-leaf=2", scene));
+}
+
 TEST(Bvh8Isa, AutoIsTheBestLevelCappedByTheEnvironment) {
     {
         ScopedIsaEnv env(nullptr);

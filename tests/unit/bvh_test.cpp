@@ -34,7 +34,7 @@ TEST(BvhLayout, NodeIsThirtyTwoBytesAndPoolIsCacheAligned) {
 
 TEST(BvhBuild, EveryBuilderMakesAValidTreeWithTightBounds) {
     const Scene scene = soup();
-    for (BvhBuilder b : {BvhBuilder::Midpoint, BvhBuilder::BinnedSah, BvhBuilder::SweepSah}) {
+    for (BvhBuilder b : {BvhBuilder::Midpoint, BvhBuilder::BinnedSah, BvhBuilder::SweepSah, BvhBuilder::Lbvh}) {
         for (int max_leaf : {1, 4, 8}) {
             const auto bvh = make_bvh(scene, b, max_leaf);
             const BvhData& d = bvh.data();
@@ -83,10 +83,44 @@ TEST(BvhBuild, SahBuildersBeatMidpointOnClusteredGeometry) {
 
 TEST(BvhBuild, IdenticalCentroidsStayShallow) {
     for (const Scene& scene : testing::nasty_scenes()) {
-        for (BvhBuilder b : {BvhBuilder::Midpoint, BvhBuilder::BinnedSah, BvhBuilder::SweepSah}) {
+        for (BvhBuilder b : {BvhBuilder::Midpoint, BvhBuilder::BinnedSah, BvhBuilder::SweepSah, BvhBuilder::Lbvh}) {
             const auto bvh = make_bvh(scene, b, 1);
             EXPECT_LE(bvh_figures(bvh.data()).max_depth, size_t(kMaxDepth)) << scene.name;
         }
+    }
+}
+
+TEST(BvhBuild, LbvhSplitsWhereTheHighestMortonBitChanges) {
+    // Small triangles at the centres of a 4x4x4 grid of cells: the first code bit is x's top bit,
+    // then y's, then z's, so the root splits x at the middle, its children y, their children z.
+    TriangleMesh m;
+    for (int x = 0; x < 4; ++x)
+        for (int y = 0; y < 4; ++y)
+            for (int z = 0; z < 4; ++z) {
+                const Vec3 c{float(x), float(y), float(z)};
+                const auto base = uint32_t(m.positions.size());
+                m.positions.insert(m.positions.end(), {c, c + Vec3(0.1f, 0, 0), c + Vec3(0, 0.1f, 0)});
+                m.indices.insert(m.indices.end(), {base, base + 1, base + 2});
+            }
+    Scene scene;
+    scene.mesh = m;
+    const auto bvh = make_bvh(scene, BvhBuilder::Lbvh, 1);
+    const BvhData& d = bvh.data();
+    ASSERT_NO_THROW(validate_bvh(d, scene.primitive_count()));
+    EXPECT_EQ(bvh_figures(d).max_leaf_size, 1u);
+    // Children (left, right) of node n are separated on `axis`: left's max below right's min.
+    auto expect_split = [&](uint32_t n, int axis) {
+        ASSERT_FALSE(d.nodes[n].is_leaf());
+        const BvhNode& l = d.nodes[d.nodes[n].leftFirst];
+        const BvhNode& r = d.nodes[d.nodes[n].leftFirst + 1];
+        EXPECT_EQ(l.count + r.count, 0u) << "64 cells: the top three levels are interior";
+        EXPECT_LT(l.aabbMax[axis], r.aabbMin[axis]) << "node " << n << " axis " << axis;
+        EXPECT_EQ(ChildOrder::split_axis(d.child_order[n]), axis);
+    };
+    expect_split(0, 0);
+    for (uint32_t c : {d.nodes[0].leftFirst, d.nodes[0].leftFirst + 1}) {
+        expect_split(c, 1);
+        for (uint32_t g : {d.nodes[c].leftFirst, d.nodes[c].leftFirst + 1}) expect_split(g, 2);
     }
 }
 

@@ -102,8 +102,8 @@ int run_bench(const BenchArgs& args) {
                 thread_counts.size() > 1 ? ("1 and " + std::to_string(thread_counts.back()) + " threads").c_str()
                                          : "1 thread");
     const bool with_embree = tracers.size() > 0 && tracers.front().name == kReferenceTracer;
-    std::printf("build   Thicket's builders are single-threaded: their one build is reported for every thread "
-                "count%s\n", with_embree ? "; Embree builds once per thread count" : "");
+    std::printf("build   built once per thread count by threaded builders (bvh, bvh8%s); the others (marked *) "
+                "once, reported for every thread count\n", with_embree ? ", Embree" : "");
     std::fflush(stdout);
 
     std::vector<BenchRow> all_rows;

@@ -15,13 +15,14 @@ struct BuildArgs {
     AccelChoice accel;
     std::string output;
     bool force = false;
+    unsigned threads = 0;
 };
 
 int run_build(const BuildArgs& args) {
     const std::optional<AccelSpec> spec = validate_accel_choice(args.accel);
     refuse_overwrite(args.output, args.force);
     const Scene scene = load_scene_verbose(args.scene);
-    const std::unique_ptr<Accel> accel = make_accel_verbose(args.accel, spec, scene);
+    const std::unique_ptr<Accel> accel = make_accel_verbose(args.accel, spec, scene, args.threads);
     write_atomically(args.output, [&](const std::string& temp) { save_accel(*accel, scene, temp); });
     std::error_code size_ec;
     const auto bytes = std::filesystem::file_size(args.output, size_ec);
@@ -34,11 +35,13 @@ int run_build(const BuildArgs& args) {
 Command add_build_command(CLI::App& app) {
     auto args = std::make_shared<BuildArgs>();
     CLI::App* cmd = app.add_subcommand("build", "build a structure over SCENE and save it to a file");
-    cmd->footer("The file records the scene's fingerprint: --load refuses it with any other scene.");
+    cmd->footer("The file records the scene's fingerprint: --load refuses it with any other scene. The file is "
+                "the same byte for byte whatever --threads is.");
     add_scene_argument(cmd, args->scene);
     add_accel_options(cmd, args->accel, /*accel_required=*/true);
     cmd->add_option("-o,--output", args->output, "file to save the structure to")->required()->type_name("FILE");
     cmd->add_flag("-f,--force", args->force, "overwrite the output file if it exists");
+    add_threads_option(cmd, args->threads);
     return {cmd, [args] { return run_build(*args); }};
 }
 

@@ -14,6 +14,7 @@ struct InfoArgs {
     std::string scene;
     AccelChoice accel;
     bool no_accel = false;
+    unsigned threads = 0;
 };
 
 void print_scene(const Scene& scene) {
@@ -82,7 +83,7 @@ int run_info(const InfoArgs& args) {
     if (!args.no_accel) spec = validate_accel_choice(args.accel);
     const Scene scene = load_scene_verbose(args.scene);
     std::unique_ptr<Accel> accel;
-    if (!args.no_accel) accel = make_accel_verbose(args.accel, spec, scene);
+    if (!args.no_accel) accel = make_accel_verbose(args.accel, spec, scene, args.threads);
     print_scene(scene);
     if (accel) print_accel(*accel);
     return 0;
@@ -99,6 +100,7 @@ Command add_info_command(CLI::App& app) {
     add_scene_argument(cmd, args->scene);
     add_accel_options(cmd, args->accel);
     cmd->add_flag("--no-accel", args->no_accel, "only describe the scene, build nothing");
+    add_threads_option(cmd, args->threads);
     return {cmd, [args] { return run_info(*args); }};
 }
 

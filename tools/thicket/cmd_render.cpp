@@ -58,7 +58,7 @@ int run_render(const RenderArgs& args) {
     const std::optional<AccelSpec> spec = validate_accel_choice(args.accel);
 
     const Scene scene = load_scene_verbose(args.scene);
-    const std::unique_ptr<Accel> accel = make_accel_verbose(args.accel, spec, scene);
+    const std::unique_ptr<Accel> accel = make_accel_verbose(args.accel, spec, scene, args.threads);
     if (!camera) camera = auto_camera(scene.bounds(), float(options.width) / float(options.height));
     std::printf("camera  --camera %s,%s,%g%s\n", vec_text(camera->position()).c_str(),
                 vec_text(camera->target()).c_str(), double(camera->fov_degrees()), args.camera.empty() ? " (auto)" : "");

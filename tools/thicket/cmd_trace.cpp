@@ -67,7 +67,7 @@ int run_trace(const TraceArgs& args) {
     const size_t n = rays.shape[0];
     std::printf("rays    %s: %zu rays\n", args.rays.c_str(), n);
     const Scene scene = load_scene_verbose(args.scene);
-    const std::unique_ptr<Accel> accel = make_accel_verbose(args.accel, spec, scene);
+    const std::unique_ptr<Accel> accel = make_accel_verbose(args.accel, spec, scene, args.threads);
 
     // Rows without meaning are answered as misses; the others are traced as one batch.
     std::vector<Ray> valid;

@@ -105,7 +105,7 @@ std::string load_average() {
 }
 
 std::unique_ptr<Accel> make_accel_verbose(const AccelChoice& choice, const std::optional<AccelSpec>& spec,
-                                          const Scene& scene) {
+                                          const Scene& scene, unsigned threads) {
     std::unique_ptr<Accel> accel;
     std::string how;
     if (!choice.load.empty()) {
@@ -113,7 +113,7 @@ std::unique_ptr<Accel> make_accel_verbose(const AccelChoice& choice, const std::
         accel = load_accel(choice.load, scene);
         how = "loaded from " + choice.load + " in " + format_duration(ms_since(start) / 1000);
     } else {
-        accel = spec ? build_accel(*spec, scene) : build_accel(choice.spec, scene);
+        accel = spec ? build_accel(*spec, scene, threads) : build_accel(choice.spec, scene, threads);
     }
     const AccelStats st = accel->stats();
     if (how.empty()) how = "built in " + format_duration(st.build_ms / 1000);

@@ -51,10 +51,10 @@ void add_threads_option(CLI::App* cmd, unsigned& threads);
 std::optional<AccelSpec> validate_accel_choice(const AccelChoice& choice);
 /// Loads the scene and prints one line about it.
 Scene load_scene_verbose(const std::string& path);
-/// Builds (or loads with --load) the structure and prints one line about it.
-/// `spec`: validate_accel_choice()'s result for `choice`.
+/// Builds (or loads with --load) the structure on up to `threads` threads (0: every core) and
+/// prints one line about it. `spec`: validate_accel_choice()'s result for `choice`.
 std::unique_ptr<Accel> make_accel_verbose(const AccelChoice& choice, const std::optional<AccelSpec>& spec,
-                                          const Scene& scene);
+                                          const Scene& scene, unsigned threads);
 
 /// "12.3 KiB" style byte counts.
 std::string format_bytes(double bytes);

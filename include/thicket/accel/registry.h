@@ -51,6 +51,9 @@ OptionInfo choice_option(std::string key, std::string help, T fallback, const Ch
 struct AccelSpec {
     std::string name;
     std::map<std::string, std::string> options;
+    /// Threads the build may use (0: every core). Not part of the spec string: a structure builds
+    /// the same result on any number of threads.
+    unsigned threads = 0;
 
     const std::string& get(const std::string& key) const;
     long get_int(const std::string& key) const;
@@ -98,6 +101,8 @@ struct AccelInfo {
     /// Specs of the variants that the conformance suite and `--accel all` run.
     std::vector<std::string> variants;
     std::function<std::unique_ptr<Accel>(const Scene&, const AccelSpec&)> build;
+    /// Whether `build` uses spec.threads (the bench then times it on each thread count).
+    bool threaded_build = false;
     /// Restores a saved structure (the header is already read and checked); null if unsupported.
     std::function<std::unique_ptr<Accel>(std::istream&, const Scene&, const AccelSpec&)> load;
 };
@@ -113,11 +118,12 @@ AccelSpec parse_accel_spec(std::string_view spec);
 /// Every variant spec of every registered structure (what `--accel all` means).
 std::vector<std::string> all_accel_variants();
 
-/// Parses `spec` and builds the structure over `scene`, filling stats().build_ms.
-std::unique_ptr<Accel> build_accel(std::string_view spec, const Scene& scene);
+/// Parses `spec` and builds the structure over `scene` on up to `threads` threads (0: every
+/// core), filling stats().build_ms. The result does not depend on `threads`.
+std::unique_ptr<Accel> build_accel(std::string_view spec, const Scene& scene, unsigned threads = 0);
 /// Builds from a spec parse_accel_spec() already parsed (a caller that validated the spec up
 /// front need not parse it again).
-std::unique_ptr<Accel> build_accel(const AccelSpec& spec, const Scene& scene);
+std::unique_ptr<Accel> build_accel(const AccelSpec& spec, const Scene& scene, unsigned threads = 0);
 
 /// Saves/loads a structure with a versioned, checksummed header bound to the scene's fingerprint.
 void save_accel(const Accel& accel, const Scene& scene, const std::string& path);

@@ -67,8 +67,8 @@ struct TracerFactory {
     std::function<std::unique_ptr<Tracer>()> make;
 };
 
-/// A tracer over build_accel(spec, ...). Thicket's builders are single-threaded today, so
-/// parallel_build() is false. Throws Error at once for an invalid spec.
+/// A tracer over build_accel(spec, ...); parallel_build() is the structure's
+/// AccelInfo::threaded_build. Throws Error at once for an invalid spec.
 std::unique_ptr<Tracer> make_accel_tracer(const std::string& spec);
 /// The factory for make_accel_tracer(spec) (the spec is checked now, not when made).
 TracerFactory accel_tracer_factory(const std::string& spec);

@@ -16,12 +16,11 @@ public:
     /// Builds over `prims`.
     Bvh(Prims prims, const BvhBuildOptions& options, BvhTraversal traversal = BvhTraversal::OrderedDistance)
         : prims_(std::move(prims)), traversal_(traversal) {
-        std::vector<Aabb> bounds(prims_.size());
-        std::vector<Vec3> centroids(prims_.size());
-        for (uint32_t i = 0; i < prims_.size(); ++i) {
-            bounds[i] = prims_.bounds(i);
-            centroids[i] = prims_.centroid(i);
-        }
+        std::vector<Aabb> bounds;
+        std::vector<Vec3> centroids;
+        primitive_boxes(
+            uint32_t(prims_.size()), options.threads, bounds, centroids,
+            [&](uint32_t i) { return prims_.bounds(i); }, [&](uint32_t i) { return prims_.centroid(i); });
         data_ = build_bvh({bounds, centroids}, options);
     }
 

@@ -51,19 +51,21 @@ public:
           primitives_(prims_.size()),
           packets_(options.packets),
           kernels_(&bvh8::kernels_for(options.isa)) {
-        std::vector<Aabb> bounds(prims_.size());
-        std::vector<Vec3> centroids(prims_.size());
-        for (uint32_t i = 0; i < prims_.size(); ++i) {
-            bounds[i] = prims_.bounds(i);
-            centroids[i] = prims_.centroid(i);
-        }
+        std::vector<Aabb> bounds;
+        std::vector<Vec3> centroids;
+        primitive_boxes(
+            uint32_t(prims_.size()), options.binary.threads, bounds, centroids,
+            [&](uint32_t i) { return prims_.bounds(i); }, [&](uint32_t i) { return prims_.centroid(i); });
         const BvhData binary = build_bvh({bounds, centroids}, options.binary);
         if constexpr (bvh8::kIsTriangles<Prims>) {
+            // Every block holds at least one triangle: never reallocated during the collapse.
+            blocks_.reserve(prims_.size());
             tree_ = bvh8::collapse(
                 binary,
                 [&](uint32_t first, uint32_t count) { return emit_blocks(binary.prim_indices.data() + first, count); },
                 options.merge_below);
             bvh8::validate_tree(tree_, blocks_.size());
+            blocks_.shrink_to_fit();  // the reservation above is one block per triangle: 4x the need
             prims_ = Prims();  // the blocks are the structure's only copy of the triangles
         } else {
             ids_ = binary.prim_indices;

@@ -1,8 +1,15 @@
 #pragma once
 /// std::vector allocator with a fixed alignment, for node pools that must start on a cache line.
+/// Big arrays (node pools, triangle blocks) are also placed on 2 MiB boundaries and offered to the
+/// kernel as transparent huge pages: a build touches each page of them once, and on a machine
+/// whose THP mode is "madvise" a 4 KiB page fault per 4 KiB of nodes was a fifth of build time.
 #include <cstddef>
 #include <new>
 #include <vector>
+
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 namespace thicket {
 
@@ -16,10 +23,26 @@ struct AlignedAllocator {
     AlignedAllocator() = default;
     template <class U>
     AlignedAllocator(const AlignedAllocator<U, Align>&) {}
-    T* allocate(std::size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t(Align))); }
-    void deallocate(T* p, std::size_t) { ::operator delete(p, std::align_val_t(Align)); }
+    /// Storage for n objects, Align-aligned (2 MiB-aligned and huge-page advised from kHugeFrom bytes).
+    T* allocate(std::size_t n) {
+        const std::size_t bytes = n * sizeof(T);
+        void* p = ::operator new(bytes, std::align_val_t(alignment(bytes)));
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+        if (bytes >= kHugeFrom) madvise(p, bytes / kHugePage * kHugePage, MADV_HUGEPAGE);  // advice only
+#endif
+        return static_cast<T*>(p);
+    }
+    /// Frees what allocate(n) returned (the same alignment is recomputed from n).
+    void deallocate(T* p, std::size_t n) { ::operator delete(p, std::align_val_t(alignment(n * sizeof(T)))); }
     template <class U>
     bool operator==(const AlignedAllocator<U, Align>&) const { return true; }
+
+private:
+    static constexpr std::size_t kHugePage = std::size_t(2) << 20;
+    static constexpr std::size_t kHugeFrom = 2 * kHugePage;
+    static constexpr std::size_t alignment(std::size_t bytes) {
+        return bytes >= kHugeFrom && Align < kHugePage ? kHugePage : Align;
+    }
 };
 
 template <class T, std::size_t Align = 64>
