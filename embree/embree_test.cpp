@@ -38,7 +38,7 @@ Ray down_at(float x, float y, float tmin = 0.0f, float tmax = kInfinity) {
 
 Hit trace_one(const Tracer& t, const Ray& r) {
     Hit h;
-    t.trace(std::span<const Ray>(&r, 1), std::span<Hit>(&h, 1), 1);
+    t.trace(std::span<const Ray>(&r, 1), std::span<Hit>(&h, 1), 1, false);
     return h;
 }
 
@@ -92,8 +92,8 @@ Agreement agreement_on(const RaySet& set, const Tracer& a, const Tracer& b) {
         return compare_occlusion(x, y);
     }
     std::vector<Hit> x(set.rays.size()), y(set.rays.size());
-    a.trace(set.rays, x, 0);
-    b.trace(set.rays, y, 0);
+    a.trace(set.rays, x, 0, set.coherent);
+    b.trace(set.rays, y, 0, set.coherent);
     return compare_hits(x, y);
 }
 

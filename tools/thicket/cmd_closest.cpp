@@ -30,7 +30,7 @@ int run_closest(const ClosestArgs& args) {
             throw Error(args.points + ": point " + std::to_string(i / 3) + " is not finite");
     std::printf("points  %s: %zu points\n", args.points.c_str(), n);
     const Scene scene = load_scene_verbose(args.scene);
-    const std::unique_ptr<Accel> accel = make_accel_verbose(args.accel, spec, scene);
+    const std::unique_ptr<Accel> accel = make_accel_verbose(args.accel, spec, scene, args.threads);
     if (!accel->has_closest_point()) accel->closest_point({0, 0, 0});  // throws the reason
 
     std::vector<Vec3> query(n);
