@@ -21,11 +21,13 @@ struct TraceArgs {
     std::string rays;
     std::string output;
     bool any_hit = false;
+    bool force = false;
     unsigned threads = 0;
 };
 
 int run_trace(const TraceArgs& args) {
     const std::optional<AccelSpec> spec = validate_accel_choice(args.accel);
+    const std::string output = prepare_output(args.output, args.force, {args.scene, args.rays, args.accel.load});
     const NpyFloatArray rays = read_npy_matrix(args.rays, 8);
     const size_t n = rays.shape[0];
     std::printf("rays    %s: %zu rays\n", args.rays.c_str(), n);
@@ -71,9 +73,9 @@ int run_trace(const TraceArgs& args) {
         std::printf("note    %zu rays were invalid (NaN, infinite origin or direction, zero direction or "
                     "tmin > tmax) and count as misses\n", invalid.load());
     if (args.any_hit)
-        write_npy_u8(args.output, occluded);
+        write_npy_u8(output, occluded);
     else
-        write_npy_hits(args.output, hits);
+        write_npy_hits(output, hits);
     std::printf("wrote   %s\n", args.output.c_str());
     return 0;
 }
@@ -94,9 +96,10 @@ Command add_trace_command(CLI::App& app) {
     cmd->add_option("-r,--rays", args->rays, "rays to trace: .npy float array of shape (N, 8)")
         ->required()
         ->type_name("FILE");
-    cmd->add_option("-o,--output", args->output, ".npy file to write the hits (or occlusion flags) to")
+    cmd->add_option("-o,--output", args->output, ".npy file to write the hits (or occlusion flags) to (- for stdout)")
         ->required()
         ->type_name("FILE");
+    cmd->add_flag("-f,--force", args->force, kForceHelp);
     cmd->add_flag("--any-hit", args->any_hit, "only ask whether each ray is blocked (faster), write a uint8 array");
     add_threads_option(cmd, args->threads);
     return {cmd, [args] { return run_trace(*args); }};
