@@ -3,6 +3,7 @@
 #include "thicket/bvh/build.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 #include "splitter.h"
@@ -176,6 +177,49 @@ void validate_bvh(const BvhData& bvh, size_t primitive_count) {
     }
     if (covered != n) throw Error("invalid BVH: leaves reference " + std::to_string(covered) + " of " +
                                   std::to_string(n) + " primitives");
+}
+
+namespace {
+
+/// True when `inner` sticks out of `outer` on some axis. NaN coordinates compare false and so
+/// pass: a primitive with NaN bounds is never hit, wherever its box is.
+bool sticks_out(const Aabb& inner, const Aabb& outer) {
+    for (int a = 0; a < 3; ++a)
+        if (inner.min[a] < outer.min[a] || inner.max[a] > outer.max[a]) return true;
+    return false;
+}
+
+}  // namespace
+
+void validate_bvh_bounds(const BvhData& bvh, std::span<const Aabb> prim_bounds) {
+    if (bvh.nodes_used == 0) return;
+    // Only the nodes traversal reaches (validate_bvh proved this walk stays in range).
+    std::vector<uint32_t> stack{0};
+    while (!stack.empty()) {
+        const uint32_t i = stack.back();
+        stack.pop_back();
+        const BvhNode& node = bvh.nodes[i];
+        const Aabb box = node.bounds();
+        for (int a = 0; a < 3; ++a)
+            if (std::isnan(box.min[a]) || std::isnan(box.max[a]))
+                throw Error("invalid BVH: node " + std::to_string(i) + " has a NaN box");
+        if (node.is_leaf()) {
+            for (uint32_t k = node.leftFirst; k < node.leftFirst + node.count; ++k)
+                if (sticks_out(prim_bounds[bvh.prim_indices[k]], box))
+                    throw Error("invalid BVH: leaf " + std::to_string(i) + "'s box does not contain primitive " +
+                                std::to_string(bvh.prim_indices[k]));
+            continue;
+        }
+        const uint8_t order = bvh.child_order[i];
+        if (ChildOrder::split_axis(order) > 2 || ChildOrder::centroid_axis(order) > 2 || order >= 32)
+            throw Error("invalid BVH: node " + std::to_string(i) + " has child-order byte " + std::to_string(order));
+        for (uint32_t c = node.leftFirst; c <= node.leftFirst + 1; ++c) {
+            if (sticks_out(bvh.nodes[c].bounds(), box))
+                throw Error("invalid BVH: node " + std::to_string(i) + "'s box does not contain its child " +
+                            std::to_string(c));
+            stack.push_back(c);
+        }
+    }
 }
 
 }  // namespace thicket
