@@ -55,7 +55,8 @@ OutputTarget resolve_output(const std::string& path) {
     }
     struct stat st {};
     if (::stat(p.c_str(), &st) != 0) {
-        if (errno != ENOENT) throw Error(path + ": cannot write: " + std::strerror(errno));
+        // Not there (or under a path that is not a directory): a new file, whose write reports it.
+        if (errno != ENOENT && errno != ENOTDIR) throw Error(path + ": cannot write: " + std::strerror(errno));
         return {OutputTarget::New, p.string()};
     }
     if (S_ISDIR(st.st_mode)) throw Error(path + ": is a directory");
