@@ -3,6 +3,9 @@
 // -max_total_time=SECONDS (default 0: the corpus only) or -runs=N mutated inputs. No coverage
 // feedback: this is the CI's bounded smoke run and regression replay, not a search. The real
 // search is libFuzzer's (THICKET_FUZZ=ON with clang; docs/fuzzing.md).
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -22,7 +25,16 @@ std::string read_file(const std::filesystem::path& p) {
     return {std::istreambuf_iterator<char>(in), {}};
 }
 
+/// Each input is written to ./last-input before it runs, and the file is removed after a clean
+/// run: when the harness crashes, aborts or a sanitizer ends the process, the file is the input
+/// to reproduce it with and to keep as a regression (as libFuzzer writes crash-<sha1>).
+const char* const kLastInput = "last-input";
+
 void run(const std::string& input) {
+    if (const int fd = ::open(kLastInput, O_WRONLY | O_CREAT | O_TRUNC, 0644); fd >= 0) {
+        (void)!::write(fd, input.data(), input.size());
+        ::close(fd);
+    }
     LLVMFuzzerTestOneInput(reinterpret_cast<const uint8_t*>(input.data()), input.size());
 }
 
@@ -100,6 +112,7 @@ int main(int argc, char** argv) {
         run(mutate(corpus[rng() % corpus.size()], corpus, rng, max_len));
         ++done;
     }
+    std::remove(kLastInput);
     std::printf("%zu corpus inputs and %ld mutations ran clean in %.1f s\n", corpus.size(), done,
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     return 0;
