@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -19,6 +20,13 @@ inline const std::string& scratch_dir() {
         const std::filesystem::path base = std::filesystem::exists("/dev/shm", ec) ? "/dev/shm" : std::filesystem::temp_directory_path();
         const std::filesystem::path d = base / ("thicket-fuzz-" + std::to_string(long(::getpid())));
         std::filesystem::create_directories(d, ec);
+        // Removed at a normal exit; after a crash it stays, with the files the input produced.
+        // The path is kept in a string that is never destroyed: the handler runs after statics die.
+        static const std::string* const removed_at_exit = new std::string(d.string());
+        std::atexit([] {
+            std::error_code ignored;
+            std::filesystem::remove_all(*removed_at_exit, ignored);
+        });
         return d.string();
     }();
     return dir;

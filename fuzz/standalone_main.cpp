@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include "fuzz_common.h"
+
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size);
 
 namespace {
@@ -25,13 +27,17 @@ std::string read_file(const std::filesystem::path& p) {
     return {std::istreambuf_iterator<char>(in), {}};
 }
 
-/// Each input is written to ./last-input before it runs, and the file is removed after a clean
-/// run: when the harness crashes, aborts or a sanitizer ends the process, the file is the input
-/// to reproduce it with and to keep as a regression (as libFuzzer writes crash-<sha1>).
-const char* const kLastInput = "last-input";
+/// Each input is written to last-input in the harness's scratch directory (tmpfs: a write per
+/// input to a disk cost more than most harnesses) before it runs, and removed after a clean run:
+/// when the harness crashes, aborts or a sanitizer ends the process, the file is the input to
+/// reproduce it with and to keep as a regression (as libFuzzer writes crash-<sha1>).
+const std::string& last_input() {
+    static const std::string path = thicket::fuzz::scratch_dir() + "/last-input";
+    return path;
+}
 
 void run(const std::string& input) {
-    if (const int fd = ::open(kLastInput, O_WRONLY | O_CREAT | O_TRUNC, 0644); fd >= 0) {
+    if (const int fd = ::open(last_input().c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644); fd >= 0) {
         (void)!::write(fd, input.data(), input.size());
         ::close(fd);
     }
@@ -103,6 +109,7 @@ int main(int argc, char** argv) {
         }  // a corpus folder that does not exist (no regressions yet) adds nothing
     }
     if (corpus.empty()) corpus.push_back("");
+    std::fprintf(stderr, "standalone fuzz driver: each input is written to %s before it runs\n", last_input().c_str());
     for (const std::string& input : corpus) run(input);
     std::mt19937_64 rng(16);
     const auto start = std::chrono::steady_clock::now();
@@ -112,7 +119,6 @@ int main(int argc, char** argv) {
         run(mutate(corpus[rng() % corpus.size()], corpus, rng, max_len));
         ++done;
     }
-    std::remove(kLastInput);
     std::printf("%zu corpus inputs and %ld mutations ran clean in %.1f s\n", corpus.size(), done,
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     return 0;

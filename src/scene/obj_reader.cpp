@@ -70,10 +70,12 @@ private:
     size_t line_number_ = 0, next_line_number_ = 1;
 };
 
-std::string shown(std::string_view s) {
+/// Text from the file, quoted, cut to `max` characters, unprintable bytes as '?': a message
+/// about a binary file stays one readable line.
+std::string shown(std::string_view s, size_t max = 40) {
     std::string out = "'";
-    for (char c : s.substr(0, 40)) out += (c >= 32 && c < 127) ? c : '?';
-    return out + (s.size() > 40 ? "...'" : "'");
+    for (char c : s.substr(0, max)) out += (c >= 32 && c < 127) ? c : '?';
+    return out + (s.size() > max ? "...'" : "'");
 }
 
 /// A decimal number as OBJ writes it (strtod syntax, a leading '+' allowed; "nan" and "inf" are
@@ -214,7 +216,7 @@ private:
             const std::string file = (dir / std::string(t[k])).string();
             std::error_code ec;
             if (!std::filesystem::exists(file, ec)) {
-                out_.warnings.push_back("material library " + file + " not found; materials are left out");
+                out_.warnings.push_back("material library " + shown(file, 300) + " not found; materials are left out");
                 continue;
             }
             const size_t first = out_.materials.size();
