@@ -5,9 +5,11 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <mutex>
 
 #include "thicket/core/error.h"
 
@@ -56,6 +58,15 @@ std::string memory_text(uint64_t bytes) {
 }
 
 uint64_t available_memory() {
+    // Read at most once a second: /proc/meminfo is generated on each read, and a reader of many
+    // small files (or a fuzzer) would spend most of its time there.
+    static std::mutex mutex;
+    static std::chrono::steady_clock::time_point read_at;
+    static uint64_t cached = 0;
+    const std::lock_guard<std::mutex> lock(mutex);
+    const auto now = std::chrono::steady_clock::now();
+    if (cached != 0 && now - read_at < std::chrono::seconds(1)) return cached;
+    read_at = now;
     uint64_t avail = 0;
     if (std::FILE* f = std::fopen("/proc/meminfo", "r")) {
         char line[256];
@@ -76,6 +87,7 @@ uint64_t available_memory() {
     struct rlimit lim {};
     if (::getrlimit(RLIMIT_AS, &lim) == 0 && lim.rlim_cur != RLIM_INFINITY && uint64_t(lim.rlim_cur) < avail)
         avail = uint64_t(lim.rlim_cur);
+    cached = avail;
     return avail;
 }
 

@@ -220,7 +220,7 @@ TEST(LoaderGltf, ABufferUriThatIsADirectoryOrDeviceIsAnError) {
 }
 
 // One node with N children sharing a mesh loaded in O(N^2) (an exact reserve per primitive):
-// 10^6 children took over a minute. 10^5 must take well under the quadratic time (~10 s).
+// 10^6 children took over a minute, 10^5 about 30 s. Linear loading takes well under a second.
 TEST(LoaderGltf, ManyNodesSharingAMeshLoadInLinearTime) {
     TempDir tmp;
     const size_t n = 100000;
@@ -245,7 +245,7 @@ TEST(LoaderGltf, ManyNodesSharingAMeshLoadInLinearTime) {
 #ifdef THICKET_SANITIZED
     const double limit = 30.0;  // the Release job holds the tight bound
 #else
-    const double limit = 5.0;
+    const double limit = 10.0;  // linear: well under a second; quadratic: a minute
 #endif
     EXPECT_LT(s, limit) << "10^5 children sharing a mesh: quadratic loading is back?";
 }
