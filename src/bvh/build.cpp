@@ -158,6 +158,9 @@ void validate_bvh(const BvhData& bvh, size_t primitive_count) {
     };
     std::vector<Item> stack{{0, 0}};
     size_t covered = 0;
+    // Leaves must partition the index array: a leaf pointed at another's entries (a fuzzed file
+    // did this) still covers n entries in total, but leaves primitives unreachable.
+    std::vector<uint8_t> entry_seen(n, 0);
     while (!stack.empty()) {
         const auto [i, depth] = stack.back();
         stack.pop_back();
@@ -166,6 +169,8 @@ void validate_bvh(const BvhData& bvh, size_t primitive_count) {
         if (node.is_leaf()) {
             if (uint64_t(node.leftFirst) + node.count > n)
                 throw Error("invalid BVH: leaf " + std::to_string(i) + " references primitives out of range");
+            for (uint32_t e = node.leftFirst; e < node.leftFirst + node.count; ++e)
+                if (entry_seen[e]++) throw Error("invalid BVH: leaves overlap at primitive entry " + std::to_string(e));
             covered += node.count;
         } else {
             // Children always come after their parent: this rules out cycles.

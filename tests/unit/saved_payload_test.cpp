@@ -10,6 +10,8 @@
 
 #include "support/test_scenes.h"
 #include "thicket/accel/registry.h"
+#include "thicket/bvh/bvh.h"
+#include "thicket/prims/triangles.h"
 #include "thicket/core/error.h"
 
 namespace thicket {
@@ -95,6 +97,26 @@ TEST(SavedStructure, AFlippedPayloadBitIsRefusedOrHarmless) {
         }
         EXPECT_GT(refused, 0u) << spec;
         RecordProperty(std::string(spec) + "_loaded", int(loaded));
+    }
+}
+
+// Found by the fuzz.saved replay (the input is fuzz/regressions/saved/bvh-leaves-overlap.bin,
+// which fuzz.saved replays): a leaf whose first entry was changed to another leaf's still covered
+// n entries in total, fit its box, and loaded; two triangles became unreachable.
+TEST(SavedStructure, BvhLeavesThatShareEntriesAreRefused) {
+    const Scene scene = load_scene("cornell");
+    const auto accel = build_accel("bvh:max-leaf=2", scene);
+    BvhData data = dynamic_cast<const Bvh<Triangles<>>&>(*accel).data();
+    std::vector<uint32_t> leaves;
+    for (uint32_t i = 0; i < data.nodes_used; ++i)
+        if (i != 1 && data.nodes[i].is_leaf() && data.nodes[i].count == 2) leaves.push_back(i);
+    ASSERT_GE(leaves.size(), 2u);
+    data.nodes[leaves[1]].leftFirst = data.nodes[leaves[0]].leftFirst;
+    try {
+        validate_bvh(data, scene.primitive_count());
+        ADD_FAILURE() << "accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("leaves overlap"), std::string::npos) << e.what();
     }
 }
 
