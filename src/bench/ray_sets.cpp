@@ -6,6 +6,7 @@
 
 #include "thicket/bench/rng.h"
 #include "thicket/core/error.h"
+#include "thicket/util/input_file.h"
 
 namespace thicket {
 
@@ -167,6 +168,17 @@ void parse_ray_set_size(std::string_view text, RaySetOptions& options) {
                     std::to_string(kMaxSide));
     options.width = w;
     options.height = h;
+    // Checked now, before the scene is loaded: a size that cannot fit fails at once, saying how
+    // much it needs, instead of std::bad_alloc (or swapping) minutes later.
+    check_memory(ray_set_bytes(options), "size " + std::string(text) + ": the ray sets (" +
+                                             std::to_string(uint64_t(w) * uint64_t(h)) + " rays each)");
+}
+
+uint64_t ray_set_bytes(const RaySetOptions& options) {
+    // Per pixel: the primary ray and its hit, the surface point, every set's ray (at most four)
+    // and the float matrix `thicket rays` writes.
+    const uint64_t per_pixel = sizeof(Ray) + sizeof(Hit) + sizeof(SurfacePoint) + 4 * sizeof(Ray) + 8 * sizeof(float);
+    return uint64_t(options.width) * uint64_t(options.height) * per_pixel;
 }
 
 RaySetView ray_set_view(const Scene& scene, const Accel& hits_from, const RaySetOptions& options) {

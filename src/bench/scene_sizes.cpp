@@ -39,7 +39,12 @@ Scene scene_of_size(const Scene& scene, size_t n, uint64_t seed) {
     if (n > kMaxSceneSize)
         throw Error("scene size " + std::to_string(n) + " is larger than the most this makes (" +
                     std::to_string(kMaxSceneSize) + " triangles)");
-    const size_t m = scene.primitive_count();
+    // The sizes are made of the scene's triangles only: its shapes (spheres, patches, ...) cannot
+    // be split into four, and counting them here read past the end of the triangles.
+    const size_t m = scene.mesh.triangle_count();
+    if (m == 0)
+        throw Error(scene.name + ": has no triangles (" + std::to_string(scene.shapes.size()) +
+                    " shapes): scenes of growing size are made by splitting triangles; measure it with --no-growth");
     const int rounds = subdivision_rounds(m, n);
     const uint64_t per_parent = uint64_t(1) << (2 * rounds);
     const uint64_t pool = uint64_t(m) * per_parent;

@@ -1,6 +1,7 @@
 // Figures and structural checks of a built BIH. Node boxes are implicit: the root's box is the
 // scene's bounds, a child's the parent's clipped by the child's plane on the split axis.
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "thicket/bih/build.h"
@@ -74,6 +75,51 @@ void validate_bih(const BihData& bih, size_t primitive_count) {
     if (covered != n)
         throw Error("invalid BIH: leaves reference " + std::to_string(covered) + " of " + std::to_string(n) +
                     " primitives");
+}
+
+namespace {
+
+// NaN coordinates compare false and so pass: a primitive with NaN bounds is never hit anyway.
+bool below(float v, float limit) { return v < limit; }
+
+/// The bounds of node i's subtree, checking every plane on the way (depth is bounded by
+/// validate_bih, so the recursion is too).
+Aabb subtree_bounds(const BihData& bih, std::span<const Aabb> prim_bounds, uint32_t i) {
+    const BihNode& node = bih.nodes[i];
+    Aabb box;
+    if (node.is_leaf()) {
+        for (uint32_t e = node.index(); e < node.index() + node.count(); ++e) {
+            const Aabb& b = prim_bounds[bih.prim_indices[e]];
+            bool nan = false;
+            for (int a = 0; a < 3; ++a) nan = nan || std::isnan(b.min[a]) || std::isnan(b.max[a]);
+            if (!nan) box.grow(b);  // a NaN primitive is never hit: where it is listed does not matter
+        }
+        return box;
+    }
+    const int a = node.axis();
+    if (std::isnan(node.left_max()) || std::isnan(node.right_min()))
+        throw Error("invalid BIH: node " + std::to_string(i) + " has a NaN plane");
+    const Aabb left = subtree_bounds(bih, prim_bounds, node.index());
+    const Aabb right = subtree_bounds(bih, prim_bounds, node.index() + 1);
+    if (!left.empty() && below(node.left_max(), left.max[a]))
+        throw Error("invalid BIH: node " + std::to_string(i) + "'s left plane " + std::to_string(node.left_max()) +
+                    " cuts its left subtree (which reaches " + std::to_string(left.max[a]) + ")");
+    if (!right.empty() && below(right.min[a], node.right_min()))
+        throw Error("invalid BIH: node " + std::to_string(i) + "'s right plane " + std::to_string(node.right_min()) +
+                    " cuts its right subtree (which reaches " + std::to_string(right.min[a]) + ")");
+    box.grow(left);
+    box.grow(right);
+    return box;
+}
+
+}  // namespace
+
+void validate_bih_bounds(const BihData& bih, std::span<const Aabb> prim_bounds) {
+    if (bih.nodes.empty()) return;
+    const Aabb all = subtree_bounds(bih, prim_bounds, 0);
+    for (int a = 0; a < 3; ++a)
+        if (below(all.min[a], bih.bounds.min[a]) || below(bih.bounds.max[a], all.max[a]))
+            throw Error("invalid BIH: the root box does not contain every primitive");
 }
 
 }  // namespace thicket

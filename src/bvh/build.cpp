@@ -5,6 +5,7 @@
 #include "thicket/bvh/build.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 #include "splitter.h"
@@ -285,6 +286,9 @@ void validate_bvh(const BvhData& bvh, size_t primitive_count) {
     };
     std::vector<Item> stack{{0, 0}};
     size_t covered = 0;
+    // Leaves must partition the index array: a leaf pointed at another's entries (a fuzzed file
+    // did this) still covers n entries in total, but leaves primitives unreachable.
+    std::vector<uint8_t> entry_seen(n, 0);
     while (!stack.empty()) {
         const auto [i, depth] = stack.back();
         stack.pop_back();
@@ -293,6 +297,8 @@ void validate_bvh(const BvhData& bvh, size_t primitive_count) {
         if (node.is_leaf()) {
             if (uint64_t(node.leftFirst) + node.count > n)
                 throw Error("invalid BVH: leaf " + std::to_string(i) + " references primitives out of range");
+            for (uint32_t e = node.leftFirst; e < node.leftFirst + node.count; ++e)
+                if (entry_seen[e]++) throw Error("invalid BVH: leaves overlap at primitive entry " + std::to_string(e));
             covered += node.count;
         } else {
             // Children always come after their parent: this rules out cycles.
@@ -304,6 +310,49 @@ void validate_bvh(const BvhData& bvh, size_t primitive_count) {
     }
     if (covered != n) throw Error("invalid BVH: leaves reference " + std::to_string(covered) + " of " +
                                   std::to_string(n) + " primitives");
+}
+
+namespace {
+
+/// True when `inner` sticks out of `outer` on some axis. NaN coordinates compare false and so
+/// pass: a primitive with NaN bounds is never hit, wherever its box is.
+bool sticks_out(const Aabb& inner, const Aabb& outer) {
+    for (int a = 0; a < 3; ++a)
+        if (inner.min[a] < outer.min[a] || inner.max[a] > outer.max[a]) return true;
+    return false;
+}
+
+}  // namespace
+
+void validate_bvh_bounds(const BvhData& bvh, std::span<const Aabb> prim_bounds) {
+    if (bvh.nodes_used == 0) return;
+    // Only the nodes traversal reaches (validate_bvh proved this walk stays in range).
+    std::vector<uint32_t> stack{0};
+    while (!stack.empty()) {
+        const uint32_t i = stack.back();
+        stack.pop_back();
+        const BvhNode& node = bvh.nodes[i];
+        const Aabb box = node.bounds();
+        for (int a = 0; a < 3; ++a)
+            if (std::isnan(box.min[a]) || std::isnan(box.max[a]))
+                throw Error("invalid BVH: node " + std::to_string(i) + " has a NaN box");
+        if (node.is_leaf()) {
+            for (uint32_t k = node.leftFirst; k < node.leftFirst + node.count; ++k)
+                if (sticks_out(prim_bounds[bvh.prim_indices[k]], box))
+                    throw Error("invalid BVH: leaf " + std::to_string(i) + "'s box does not contain primitive " +
+                                std::to_string(bvh.prim_indices[k]));
+            continue;
+        }
+        const uint8_t order = bvh.child_order[i];
+        if (ChildOrder::split_axis(order) > 2 || ChildOrder::centroid_axis(order) > 2 || order >= 32)
+            throw Error("invalid BVH: node " + std::to_string(i) + " has child-order byte " + std::to_string(order));
+        for (uint32_t c = node.leftFirst; c <= node.leftFirst + 1; ++c) {
+            if (sticks_out(bvh.nodes[c].bounds(), box))
+                throw Error("invalid BVH: node " + std::to_string(i) + "'s box does not contain its child " +
+                            std::to_string(c));
+            stack.push_back(c);
+        }
+    }
 }
 
 }  // namespace thicket

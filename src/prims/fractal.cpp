@@ -36,6 +36,15 @@ void check_march(const FractalMarch& m, const std::string& type) {
     if (!(m.step_factor > 0.0 && m.step_factor <= 1.0))
         throw Error(type + ": step-factor must be in (0, 1], got " + str(m.step_factor));
     if (m.max_steps < 1) throw Error(type + ": max-steps must be at least 1, got " + std::to_string(m.max_steps));
+    // A ray costs up to max_steps distance estimates of `iterations` map iterations each (the
+    // final bisection is bounded by double precision): each limit alone allowed 1000 x 2^24
+    // iterations, minutes per ray. Their product is what bounds the work.
+    const int64_t work = int64_t(m.iterations) * int64_t(m.max_steps);
+    if (work > kMaxFractalWorkPerRay)
+        throw Error(type + ": iterations x max-steps = " + std::to_string(m.iterations) + " x " +
+                    std::to_string(m.max_steps) + " = " + std::to_string(work) + " exceeds " +
+                    std::to_string(kMaxFractalWorkPerRay) + ", the bound on the work per ray (the defaults use " +
+                    std::to_string(12 * (1 << 14)) + ")");
 }
 
 /// The world box of the bounding sphere, each bound rounded outward to float.

@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <string>
+#include <limits>
 #include <vector>
 
 #include "thicket/core/error.h"
@@ -93,7 +94,11 @@ Camera auto_camera(const Aabb& bounds, float aspect) {
     }
     const float scale = std::max(1.0f, length(centre));
     const float distance = needed > 1e-6f * scale ? 1.05f * needed : 1.0f;
-    return Camera(centre + toward_camera * distance, centre);
+    const Vec3 position = centre + toward_camera * distance;
+    if (!finite(position) || !std::isfinite(distance))
+        throw Error("automatic camera: the scene's bounds (extent up to " + std::to_string(std::max({bounds.max.x - bounds.min.x, bounds.max.y - bounds.min.y, bounds.max.z - bounds.min.z})) +
+                    ") are too large to frame in float coordinates; give --camera");
+    return Camera(position, centre);
 }
 
 Camera parse_camera(std::string_view text) {
@@ -103,14 +108,17 @@ Camera parse_camera(std::string_view text) {
     while (true) {
         const size_t comma = text.find(',', start);
         const std::string_view field = trim(text.substr(start, comma == std::string_view::npos ? text.npos : comma - start));
-        float v = 0.0f;
+        // Read as double, so that 1e39 is reported as out of float's range, not as "not a number".
+        double v = 0.0;
         const auto [end, ec] = std::from_chars(field.data(), field.data() + field.size(), v);
-        if (field.empty() || ec != std::errc() || end != field.data() + field.size())
-            throw Error(quoted + ": component " + std::to_string(values.size() + 1) + " ('" + std::string(field) +
-                        "') is not a number; expected px,py,pz,tx,ty,tz[,fov]");
-        if (!std::isfinite(v))
-            throw Error(quoted + ": component " + std::to_string(values.size() + 1) + " is not finite");
-        values.push_back(v);
+        const std::string which = "component " + std::to_string(values.size() + 1) + " ('" + std::string(field.substr(0, 40)) + "')";
+        if (field.empty() || end != field.data() + field.size() ||
+            (ec != std::errc() && ec != std::errc::result_out_of_range))
+            throw Error(quoted + ": " + which + " is not a number; expected px,py,pz,tx,ty,tz[,fov]");
+        if (std::isnan(v)) throw Error(quoted + ": " + which + " is not finite (NaN)");
+        if (ec == std::errc::result_out_of_range || !(std::fabs(v) <= double(std::numeric_limits<float>::max())))
+            throw Error(quoted + ": " + which + " is outside the range of float coordinates (magnitude at most 3.4e38)");
+        values.push_back(float(v));
         if (comma == std::string_view::npos) break;
         start = comma + 1;
     }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "thicket/core/error.h"
+#include "thicket/util/input_file.h"
 #include "thicket/util/parallel.h"
 #include "thicket/util/progress.h"
 
@@ -218,5 +220,24 @@ Image render_view(const Scene& scene, const Accel& accel, const Camera& camera, 
     if (stats_out) *stats_out = stats;
     return image;
 }
+
+void parse_image_size(std::string_view text_view, int& width, int& height) {
+    const std::string text(text_view);
+    const size_t x = text.find_first_of("xX");
+    auto number = [&](std::string_view s, int& out) {
+        const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
+        return !s.empty() && ec == std::errc() && end == s.data() + s.size();
+    };
+    if (x == std::string::npos || !number(std::string_view(text).substr(0, x), width) ||
+        !number(std::string_view(text).substr(x + 1), height))
+        throw Error("--size '" + text + "': expected WIDTHxHEIGHT, e.g. 640x480");
+    if (width < 1 || height < 1 || width > Image::kMaxSide || height > Image::kMaxSide)
+        throw Error("--size '" + text + "': width and height must be between 1 and " + std::to_string(Image::kMaxSide));
+    // The RGB image, the depth or node-count buffer, and the PNG encoding of it: checked before the
+    // scene is loaded, so a size that cannot fit fails at once and says how much it needs.
+    const uint64_t pixels = uint64_t(width) * uint64_t(height);
+    check_memory(pixels * (3 + 4 + 4), "--size " + text + ": the image (" + std::to_string(pixels) + " pixels)");
+}
+
 
 }  // namespace thicket

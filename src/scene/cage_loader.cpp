@@ -4,8 +4,7 @@
 #include <cctype>
 #include <filesystem>
 
-#include <tiny_obj_loader.h>
-
+#include "obj_reader.h"
 #include "thicket/core/error.h"
 #include "thicket/prims/control_mesh.h"
 #include "thicket/scene/loaders.h"
@@ -47,26 +46,8 @@ ControlMesh compact_cage(const std::string& path, const std::vector<Vec3>& posit
 }
 
 ControlMesh load_obj_cage(const std::string& path) {
-    tinyobj::ObjReaderConfig config;
-    config.triangulate = false;
-    config.vertex_color = false;
-    tinyobj::ObjReader reader;
-    if (!reader.ParseFromFile(path, config)) {
-        std::string why = reader.Error();
-        while (!why.empty() && (why.back() == '\n' || why.back() == '\r')) why.pop_back();
-        throw Error(path + ": " + (why.empty() ? std::string("cannot parse OBJ file") : why));
-    }
-    const tinyobj::attrib_t& attrib = reader.GetAttrib();
-    std::vector<Vec3> positions;
-    for (size_t v = 0; v + 2 < attrib.vertices.size(); v += 3)
-        positions.push_back({attrib.vertices[v], attrib.vertices[v + 1], attrib.vertices[v + 2]});
-    std::vector<uint32_t> face_sizes, indices;
-    for (const tinyobj::shape_t& shape : reader.GetShapes()) {
-        for (unsigned char n : shape.mesh.num_face_vertices) face_sizes.push_back(n);
-        // A negative index (tinyobjloader's "none") becomes huge, and compact_cage reports it.
-        for (const tinyobj::index_t& idx : shape.mesh.indices) indices.push_back(uint32_t(idx.vertex_index));
-    }
-    return compact_cage(path, positions, face_sizes, indices);
+    const obj::ObjData data = obj::read_obj(path, /*materials=*/false);
+    return compact_cage(path, data.positions, data.face_sizes, data.indices);
 }
 
 /// The PLY's faces rebuilt from their fans (face of n vertices = n - 2 triangles v0 v[k-1] v[k]).

@@ -19,6 +19,7 @@
 
 #include "thicket/core/error.h"
 #include "thicket/scene/loaders.h"
+#include "thicket/util/input_file.h"
 
 namespace thicket {
 namespace {
@@ -252,7 +253,8 @@ private:
 
         const size_t base = mesh_.positions.size();
         if (pos.count > std::numeric_limits<uint32_t>::max() - base) fail(where + ": too many vertices");
-        mesh_.positions.reserve(base + pos.count);
+        // No exact reserve(base + count) here: with N nodes sharing a mesh it reallocated the whole
+        // array for every node, O(N^2); push_back's geometric growth keeps loading linear.
         for (size_t i = 0; i < pos.count; ++i) {
             float p[3];
             std::memcpy(p, pos.at(i), sizeof p);
@@ -321,6 +323,27 @@ private:
     uint32_t default_material_ = no_material;
 };
 
+// The files a glTF names (buffers, images) are read like every input: regular files only, their
+// size checked against memory (a `uri: "."` made tinygltf ask for the size of a directory, which
+// ended in std::bad_alloc). Paths are used as written: no ~ or $VAR expansion.
+bool read_referenced_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+    try {
+        const std::string bytes = read_input_file(path, "glTF buffer");
+        out->assign(bytes.begin(), bytes.end());
+        return true;
+    } catch (const Error& e) {
+        if (err) *err += e.what();
+        return false;
+    }
+}
+
+bool referenced_file_exists(const std::string& path, void*) {
+    std::error_code ec;
+    return std::filesystem::exists(path, ec);
+}
+
+std::string path_as_written(const std::string& path, void*) { return path; }
+
 bool has_extension(const std::string& path, const char* ext) {
     std::string e = std::filesystem::path(path).extension().string();
     for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
@@ -332,18 +355,21 @@ bool has_extension(const std::string& path, const char* ext) {
 /// Reads a .gltf or .glb file: the default scene's meshes with node transforms applied, one
 /// triangle per TRIANGLES/STRIP/FAN triangle in traversal order. Throws thicket::Error.
 TriangleMesh load_gltf(const std::string& path) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) throw FileError(path + ": is a directory, not a glTF file");
-    if (!std::filesystem::exists(path, ec)) throw FileError(path + ": no such file");
+    const std::string bytes = read_input_file(path, "glTF file");
+    if (bytes.size() > std::numeric_limits<unsigned>::max()) throw Error(path + ": larger than 4 GiB (glTF's limit)");
+    const std::string dir = std::filesystem::path(path).parent_path().string();
 
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(&ignore_image, nullptr);
+    loader.SetFsCallbacks({&referenced_file_exists, &path_as_written, &read_referenced_file, nullptr, nullptr});
     tinygltf::Model model;
     std::string err, warn;
     bool ok = false;
     try {
-        ok = has_extension(path, ".glb") ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
-                                         : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+        ok = has_extension(path, ".glb")
+                 ? loader.LoadBinaryFromMemory(&model, &err, &warn, reinterpret_cast<const unsigned char*>(bytes.data()),
+                                               unsigned(bytes.size()), dir)
+                 : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(), unsigned(bytes.size()), dir);
     } catch (const std::exception& e) {
         throw Error(path + ": glTF parse error: " + e.what());
     }

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "thicket/core/error.h"
+#include "thicket/util/input_file.h"
 #include "thicket/scene/loaders.h"
 
 namespace thicket {
@@ -84,12 +85,12 @@ struct FileBytes {
 
 /// Reads a whole file; throws Error naming the path when it cannot.
 FileBytes read_whole_file(const std::string& path) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, not a PLY file");
+    // A device or FIFO is refused (/dev/zero never ends); the size must fit in memory.
+    const uint64_t expected = check_regular_input(path, "PLY file");
+    check_memory(expected, path + ": reading this " + std::to_string(expected) + "-byte file");
     std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
     if (!f) throw FileError(path + ": cannot open: " + std::strerror(errno));
-    const auto expected = std::filesystem::file_size(path, ec);
-    size_t capacity = ec ? size_t(1) << 16 : size_t(expected) + 1;
+    size_t capacity = size_t(expected) + 1;
     FileBytes out{std::unique_ptr<unsigned char[]>(new unsigned char[capacity]), 0};
     // Read until EOF rather than trusting the size, so a file that changes under us stays safe.
     for (;;) {
@@ -214,6 +215,8 @@ public:
         return "line " + std::to_string(line_) + ": unexpected end of file";
     }
     size_t remaining() const { return size_t(end_ - p_); }
+    /// The line of the first non-blank text left, or 0 when only whitespace remains.
+    size_t leftover_line() { return next().empty() ? 0 : line_; }
 
 private:
     std::string_view next() {
@@ -249,10 +252,16 @@ public:
             const char* base = reinterpret_cast<const char*>(data_.data());
             AsciiSource src(base + body_, base + data_.size, header_lines_ + 1);
             for (const Element& e : elements_) parse_element(src, e);
+            // Like the .npy and saved-structure readers: data the header does not account for
+            // means the header (or the file) is not what it claims.
+            if (const size_t line = src.leftover_line())
+                fail("line " + std::to_string(line) + ": data after the last element the header declares");
         } else {
             const bool swap = (format_ == Format::binary_le) != (std::endian::native == std::endian::little);
             BinarySource src(data_.data() + body_, data_.data() + data_.size, swap);
             for (const Element& e : elements_) parse_element(src, e);
+            if (src.remaining() != 0)
+                fail(std::to_string(src.remaining()) + " bytes after the last element the header declares");
         }
         return std::move(mesh_);
     }

@@ -9,6 +9,7 @@
 #include "thicket/core/error.h"
 #include "thicket/prims/teapot_patches.h"
 #include "thicket/scene/loaders.h"
+#include "thicket/util/input_file.h"
 
 namespace thicket {
 
@@ -114,7 +115,8 @@ void Scene::add_mesh(const TriangleMesh& m) {
     const size_t old_tris = mesh.triangle_count();
     const auto base = uint32_t(mesh.positions.size());
     mesh.positions.insert(mesh.positions.end(), m.positions.begin(), m.positions.end());
-    mesh.indices.reserve(mesh.indices.size() + 3 * tris);
+    // Not reserve(size + 3 * tris): an exact reserve per mesh reallocates everything for each of
+    // N meshes (O(N^2)); insert's geometric growth keeps adding meshes linear.
     for (size_t i = 0; i < 3 * tris; ++i) mesh.indices.push_back(base + m.indices[i]);
 
     // Materials: once any mesh has them, every triangle has one (a default for those without).
@@ -168,11 +170,7 @@ Scene load_scene(const std::string& path_or_builtin) {
         return scene;
     }
     const std::string& path = path_or_builtin;
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    const fs::file_status st = fs::status(path, ec);
-    if (!fs::exists(st)) throw FileError(path + ": no such file");
-    if (fs::is_directory(st)) throw FileError(path + ": is a directory, not a scene file");
+    check_regular_input(path, "scene file");  // no such file, a directory, /dev/zero, a FIFO
 
     const std::string ext = lower_extension(path);
     if (ext == ".json") {

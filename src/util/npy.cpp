@@ -9,6 +9,7 @@
 #include <map>
 
 #include "thicket/core/error.h"
+#include "thicket/util/input_file.h"
 #include "thicket/util/atomic_file.h"
 
 namespace thicket {
@@ -185,6 +186,8 @@ NpyHeader open_array(const std::string& path, std::ifstream& in, size_t item_siz
     if (have > need)
         throw Error(path + ": " + std::to_string(have - need) + " unexpected bytes after the data of shape " +
                     shape_repr(h.shape));
+    // A sparse file can announce gigabytes it does not hold: say so before allocating them.
+    check_memory(need, path + ": the array of shape " + shape_repr(h.shape));
     in.seekg(std::streamoff(h.data_offset));
     return h;
 }
@@ -234,6 +237,7 @@ size_t NpyHeader::element_count() const {
 }
 
 NpyHeader read_npy_header(const std::string& path) {
+    check_regular_input(path, ".npy file");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw FileError(path + ": cannot open: " + std::strerror(errno));
     unsigned char pre[12] = {};

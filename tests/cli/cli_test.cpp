@@ -218,9 +218,10 @@ TEST_F(CliTest, TraceMatchesBruteForceInProcess) {
     ASSERT_GT(hits, 20u) << "the ray set should hit the box often";
     ASSERT_LT(hits, want.size() - 20) << "and miss often";
 
+    // --force below: each structure's run replaces the last one's outputs.
     for (const char* accel : {"brute", "bvh"}) {
         SCOPED_TRACE(accel);
-        RunResult r = run_cli(std::string("trace cornell --accel ") + accel + " --rays " + q("rays.npy") + " -o " +
+        RunResult r = run_cli(std::string("trace cornell --accel ") + accel + " --rays " + q("rays.npy") + " --force -o " +
                               q("hits.npy"));
         ASSERT_EQ(r.code, 0) << r.output;
         EXPECT_NE(r.output.find("4 rays were invalid"), std::string::npos) << r.output;
@@ -234,7 +235,7 @@ TEST_F(CliTest, TraceMatchesBruteForceInProcess) {
         }
 
         r = run_cli(std::string("trace cornell --any-hit --threads 3 --accel ") + accel + " --rays " + q("rays.npy") +
-                    " -o " + q("occluded.npy"));
+                    " --force -o " + q("occluded.npy"));
         ASSERT_EQ(r.code, 0) << r.output;
         EXPECT_EQ(read_npy_u8(path("occluded.npy")), want_occluded);
     }
@@ -416,7 +417,7 @@ TEST_F(CliTest, SponzaEveryVariantAgreesWithBruteForce) {
         const std::string spec = isect.empty() ? "brute" : "brute:isect=" + isect;
         const auto start = std::chrono::steady_clock::now();
         const RunResult r = run_cli("trace " + quote(scene) + " --accel " + spec + " --rays " + q(rays_file(isect)) +
-                                    " -o " + q("ref.npy"));
+                                    " --force -o " + q("ref.npy"));
         EXPECT_EQ(r.code, 0) << r.output;
         std::printf("[ reference ] %s: %.1f s\n", spec.c_str(),
                     std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
@@ -448,7 +449,7 @@ TEST_F(CliTest, SponzaEveryVariantAgreesWithBruteForce) {
         ASSERT_EQ(want.size(), n);
 
         RunResult r = run_cli("trace " + quote(scene) + " --accel " + quote(variant) + " --rays " + q(rays_file(isect)) +
-                              " -o " + q("hits.npy"));
+                              " --force -o " + q("hits.npy"));
         ASSERT_EQ(r.code, 0) << r.output;
         const std::vector<Hit> got = read_npy_hits(path("hits.npy"));
         ASSERT_EQ(got.size(), n);
@@ -458,7 +459,7 @@ TEST_F(CliTest, SponzaEveryVariantAgreesWithBruteForce) {
         EXPECT_EQ(bad, 0u);
 
         r = run_cli("trace " + quote(scene) + " --any-hit --accel " + quote(variant) + " --rays " + q(rays_file(isect)) +
-                    " -o " + q("any.npy"));
+                    " --force -o " + q("any.npy"));
         ASSERT_EQ(r.code, 0) << r.output;
         const std::vector<uint8_t> got_any = read_npy_u8(path("any.npy"));
         ASSERT_EQ(got_any.size(), n);

@@ -81,7 +81,7 @@ TEST_F(JsonSceneCli, TraceAnswersWithFileOrderIdsLikeBruteForce) {
     for (const char* accel : {"bvh", "kdtree", "grid", "bsp"}) {
         SCOPED_TRACE(accel);
         const auto r = run_thicket(std::string("trace ") + q("scene.json") + " --accel " + accel + " --rays " + q("rays.npy") +
-                                   " -o " + q("hits.npy"));
+                                   " --force -o " + q("hits.npy"));
         ASSERT_EQ(r.code, 0) << r.output;
         const std::vector<Hit> hits = read_npy_hits((dir_ / "hits.npy").string());
         ASSERT_EQ(hits.size(), std::size(xs));

@@ -18,6 +18,8 @@
 #include "thicket/bench/scene_sizes.h"
 #include "thicket/bench/svg_plot.h"
 #include "thicket/core/error.h"
+#include "thicket/prims/teapot_patches.h"
+#include "thicket/scene/scene.h"
 
 using namespace thicket;
 using thicket::test::attribute_values;
@@ -110,6 +112,27 @@ TEST(GrowthSizes, DefaultsAndParsing) {
             EXPECT_NE(std::string(e.what()).find("size '"), std::string::npos) << e.what();
         }
     }
+}
+
+// Issue 16: `thicket compare teapot-patches` crashed here, reading as many triangles as the scene
+// has primitives (shapes included).
+TEST(SceneOfSize, ShapesAreLeftOutAndAShapesOnlySceneIsAnError) {
+    const Scene teapot = load_scene("teapot-patches");
+    ASSERT_EQ(teapot.mesh.triangle_count(), 0u);
+    try {
+        scene_of_size(teapot, 100);
+        ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("no triangles"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("--no-growth"), std::string::npos) << e.what();
+    }
+    Scene mixed = cornell();
+    for (const BezierPatch& p : teapot_patches()) mixed.add_shape(p);
+    const size_t tris = cornell().mesh.triangle_count();
+    const Scene bigger = scene_of_size(mixed, 4 * tris);
+    EXPECT_EQ(bigger.mesh.triangle_count(), 4 * tris);
+    EXPECT_FALSE(bigger.has_shapes());
+    EXPECT_EQ(scene_of_size(mixed, tris).mesh.positions, scene_of_size(cornell(), tris).mesh.positions);
 }
 
 TEST(SceneOfSize, SubsetKeepsOriginalTrianglesInFileOrder) {

@@ -431,6 +431,26 @@ TEST(FractalKernel, BadParametersAreErrors) {
     julia_throws([](Julia::Params& p) { p.march.step_factor = 0.0; });
     julia_throws([](Julia::Params& p) { p.march.step_factor = 1.5; });
     julia_throws([](Julia::Params& p) { p.march.max_steps = 0; });
+    // Issue 16: each limit alone let one ray cost 1000 x 2^24 map iterations (minutes).
+    julia_throws([](Julia::Params& p) {
+        p.march.iterations = 1000;
+        p.march.max_steps = 1 << 24;
+        p.march.epsilon = 1e-30;
+    });
+    julia_throws([](Julia::Params& p) {
+        p.march.iterations = 257;
+        p.march.max_steps = 1 << 14;  // 257 x 16384 = 4,210,688 > 2^22
+    });
+    {
+        Julia::Params p;
+        p.march.iterations = 256;
+        p.march.max_steps = 1 << 14;  // exactly 2^22: allowed
+        EXPECT_NO_THROW(Julia{p});
+        Mandelbulb::Params m;
+        m.march.iterations = 1000;
+        m.march.max_steps = 1 << 24;
+        EXPECT_THROW(Mandelbulb{m}, Error);
+    }
     julia_throws([](Julia::Params& p) { p.march.scale = -1.0f; });
     julia_throws([](Julia::Params& p) { p.march.center.x = INFINITY; });
     julia_throws([](Julia::Params& p) { p.c[1] = NAN; });

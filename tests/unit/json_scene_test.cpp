@@ -3,6 +3,8 @@
 // and the field), and scenes with shapes through the registry (dispatch, normals, save/load).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -244,6 +246,33 @@ TEST(JsonScene, ShapeErrorsNameShapeAndField) {
         {"shape 1 (mesh)", "field 'transform'", "float range"});
     bad(R"({"type": "mesh", "file": "tri.obj", "transfrom": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]})",
         {"shape 1 (mesh)", "field 'transfrom'", "unknown field", "'transform'"});
+}
+
+// Issue 16: N shapes loaded in O(N^2) (nlohmann's callback parser rescans the shapes array at
+// the end of every object): 200,000 spheres took 7 s. Four times the spheres must take about four
+// times as long, not sixteen (the best of two runs each: the machine may be shared).
+TEST(JsonScene, ManySpheresLoadInLinearTime) {
+    TempDir tmp;
+    auto seconds_for = [&](size_t n) {
+        std::string list;
+        for (size_t i = 0; i < n; ++i)
+            list += (i ? "," : "") + std::string(R"({"type": "sphere", "center": [)") + std::to_string(i) +
+                    R"(, 0, 0], "radius": 0.25})";
+        const std::string path = tmp.file("many.json", shapes(list));
+        double best = 1e30;
+        for (int run = 0; run < 2; ++run) {
+            const auto start = std::chrono::steady_clock::now();
+            const Scene s = load_scene(path);
+            best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+            EXPECT_EQ(s.shapes.size(), n);
+        }
+        return best;
+    };
+    const double small = seconds_for(25000), large = seconds_for(100000);
+    EXPECT_LT(large, 8.0 * small) << "25,000 spheres: " << small << " s, 100,000: " << large << " s (quadratic: 16x)";
+    // Duplicate keys are still refused, naming the shape.
+    expect_error(tmp, shapes(std::string(kSphere) + R"(, {"type": "sphere", "radius": 1, "radius": 2, "center": [0, 0, 0]})"),
+                 {"shape 1: field 'radius' given twice"});
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 // glTF loader tests: embedded and external buffers, GLB, node transforms, corrupt files.
 #include <gtest/gtest.h>
 
+#include <chrono>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -196,6 +198,56 @@ TEST(LoaderGltf, CorruptFilesAreErrors) {
     const std::string range =
         tmp.file("range.gltf", gltf_json("data:application/octet-stream;base64," + base64(b), b.size()));
     expect_error([&] { load_gltf(range); }, range, {"index 7", "out of range"});
+}
+
+// ---- issue 16 ----------------------------------------------------------------------------------
+
+TEST(LoaderGltf, ABufferUriThatIsADirectoryOrDeviceIsAnError) {
+    TempDir tmp;
+    for (const char* uri : {".", "/dev/zero", "missing.bin"}) {
+        const std::string p = tmp.file("dir.gltf", gltf_json(uri, gltf_buffer().size()));
+        try {
+            load_gltf(p);
+            ADD_FAILURE() << uri << ": no error";
+        } catch (const Error& e) {
+            const std::string what = e.what();
+            EXPECT_EQ(what.rfind(p, 0), 0u) << what;
+            EXPECT_EQ(what.find("bad_alloc"), std::string::npos) << what;
+        } catch (const std::exception& e) {
+            ADD_FAILURE() << uri << ": " << e.what();
+        }
+    }
+}
+
+// One node with N children sharing a mesh loaded in O(N^2) (an exact reserve per primitive):
+// 10^6 children took over a minute, 10^5 about 30 s. Linear loading takes well under a second.
+TEST(LoaderGltf, ManyNodesSharingAMeshLoadInLinearTime) {
+    TempDir tmp;
+    const size_t n = 100000;
+    std::string children, nodes;
+    for (size_t i = 1; i <= n; ++i) {
+        children += (i > 1 ? "," : "") + std::to_string(i);
+        nodes += ",{\"mesh\": 0, \"translation\": [" + std::to_string(i) + ", 0, 0]}";
+    }
+    const std::string b = gltf_buffer();
+    std::string json = R"({"asset": {"version": "2.0"}, "nodes": [{"children": [)" + children + "]}" + nodes +
+                       R"(], "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+  "buffers": [{"uri": "data:application/octet-stream;base64,)" + base64(b) + R"(", "byteLength": )" +
+                       std::to_string(b.size()) + R"(}],
+  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"}]})";
+    const std::string p = tmp.file("many.gltf", json);
+    const auto start = std::chrono::steady_clock::now();
+    const TriangleMesh m = load_gltf(p);
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ASSERT_EQ(m.triangle_count(), n);
+    EXPECT_EQ(m.vertex(n - 1, 1), Vec3(float(n) + 1, 0, 0));
+#ifdef THICKET_SANITIZED
+    const double limit = 30.0;  // the Release job holds the tight bound
+#else
+    const double limit = 10.0;  // linear: well under a second; quadratic: a minute
+#endif
+    EXPECT_LT(s, limit) << "10^5 children sharing a mesh: quadratic loading is back?";
 }
 
 }  // namespace

@@ -72,5 +72,89 @@ TEST(LoaderObj, ErrorsNameTheFile) {
     expect_error([&] { load_obj(zero); }, zero, {});
 }
 
+
+// ---- issue 16: what tinyobjloader got silently wrong -------------------------------------------
+
+// A polygon of n vertices around the unit circle, then a triangle: the file of the issue's
+// "256-gon then a triangle" reproduction for any n.
+std::string polygon_then_triangle(int n) {
+    std::string text;
+    for (int i = 0; i < n; ++i)
+        text += "v " + std::to_string(std::cos(0.01 * i)) + " " + std::to_string(std::sin(0.01 * i)) + " 0\n";
+    text += "v 0 0 1\nv 1 0 1\nv 0 1 1\nf";
+    for (int i = 1; i <= n; ++i) text += " " + std::to_string(i);
+    text += "\nf " + std::to_string(n + 1) + " " + std::to_string(n + 2) + " " + std::to_string(n + 3) + "\n";
+    return text;
+}
+
+TEST(LoaderObj, PolygonsOf256AndMoreVerticesKeepTheFacesAfterThem) {
+    TempDir tmp;
+    for (int n : {255, 256, 300, 1000}) {
+        const TriangleMesh m = load_obj(tmp.file("poly" + std::to_string(n) + ".obj", polygon_then_triangle(n)));
+        ASSERT_EQ(m.triangle_count(), size_t(n - 2 + 1)) << n << "-gon";
+        // The fan: v0 v(k-1) v(k); the triangle after it is intact.
+        EXPECT_EQ(m.indices[3 * size_t(n - 3) + 2], uint32_t(n - 1));
+        const std::vector<uint32_t> last(m.indices.end() - 3, m.indices.end());
+        EXPECT_EQ(last, (std::vector<uint32_t>{uint32_t(n), uint32_t(n + 1), uint32_t(n + 2)}));
+    }
+}
+
+TEST(LoaderObj, IndicesBeyond32BitsAreRefusedNotWrapped) {
+    TempDir tmp;
+    const std::string wrap = tmp.file("wrap.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4294967297\n");
+    expect_error([&] { load_obj(wrap); }, wrap, {"line 4", "4294967297", "out of range"});
+    const std::string huge = tmp.file("huge.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999999999999999\n");
+    expect_error([&] { load_obj(huge); }, huge, {"out of range"});
+}
+
+TEST(LoaderObj, TwoToThe31IsAnOutOfRangeIndexNotARelativeOne) {
+    TempDir tmp;
+    const std::string p = tmp.file("big.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 2147483648\n");
+    try {
+        load_obj(p);
+        ADD_FAILURE() << "accepted";
+    } catch (const Error& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("2147483648 is out of range (3 vertices)"), std::string::npos) << what;
+        EXPECT_EQ(what.find("relative"), std::string::npos) << what;
+    }
+}
+
+TEST(LoaderObj, GarbageIsRefusedWithTheLine) {
+    TempDir tmp;
+    const std::string abc = tmp.file("abc.obj", "v abc def ghi\n");
+    expect_error([&] { load_obj(abc); }, abc, {"line 1", "'abc' is not a number"});
+    const std::string one = tmp.file("one.obj", "# a comment\nv 1\n");
+    expect_error([&] { load_obj(one); }, one, {"line 2", "x y z"});
+    const std::string two = tmp.file("two.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n");
+    expect_error([&] { load_obj(two); }, two, {"line 3", "at least 3"});
+    const std::string slash = tmp.file("slash.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/x 2 3\n");
+    expect_error([&] { load_obj(slash); }, slash, {"line 4", "'1/x'"});
+    std::mt19937 rng(16);
+    std::string noise(4096, '\0');
+    for (char& c : noise) c = char(rng());
+    const std::string random = tmp.file("random.obj", noise);
+    expect_error([&] { load_obj(random); }, random, {"line"});
+    expect_error([&] { load_scene(random); }, random, {"line"});
+}
+
+TEST(LoaderObj, StatementsThicketIgnoresAreSkipped) {
+    TempDir tmp;
+    const TriangleMesh m = load_obj(tmp.file("skip.obj",
+        "o thing\ng a b\ns off\nv 0 0 0 1\nv 1 0 0 0.5 0.5 0.5\nv +0 1e0 0\nvt 0 0\nvn 0 0 1\n"
+        "f 1/1/1 2//1 \\\n 3/1\nl 1 2\n"));
+    EXPECT_EQ(m.indices, (std::vector<uint32_t>{0, 1, 2}));
+    EXPECT_EQ(m.positions[2], Vec3(0, 1, 0));
+}
+
+TEST(LoaderObj, AMaterialLibraryThatIsADeviceIsRefused) {
+    TempDir tmp;
+    const std::string p = tmp.file("zero.obj", "mtllib /dev/zero\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    expect_error([&] { load_obj(p); }, p, {"/dev/zero", "character device"});
+    const std::string bad = tmp.file("badmtl.obj", "mtllib bad.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    tmp.file("bad.mtl", "newmtl m\nKd red green blue\n");
+    expect_error([&] { load_obj(bad); }, bad, {"bad.mtl: line 2", "'red'"});
+}
+
 }  // namespace
 }  // namespace thicket

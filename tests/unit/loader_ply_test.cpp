@@ -163,6 +163,18 @@ TEST(LoaderPly, BadBodiesAreErrorsNotCrashes) {
     EXPECT_THROW(load_ply(tmp.dir() + "/absent.ply"), Error);
 }
 
+// Issue 16: bytes after the last element were accepted (the .npy and saved-structure readers
+// refuse them): they mean the header does not describe the file.
+TEST(LoaderPly, TrailingBytesAreRefused) {
+    TempDir tmp;
+    const std::string bin = simple_ply(Fmt::le), ascii = simple_ply(Fmt::ascii);
+    EXPECT_NO_THROW(load_ply(tmp.file("ok.ply", ascii + "\n \n")));  // blank lines are not data
+    const std::string extra_bin = tmp.file("extra.ply", bin + "junk");
+    expect_error([&] { load_ply(extra_bin); }, extra_bin, {"4 bytes after the last element"});
+    const std::string extra_ascii = tmp.file("extra_ascii.ply", ascii + "1 2 3\n");
+    expect_error([&] { load_ply(extra_ascii); }, extra_ascii, {"data after the last element"});
+}
+
 TEST(LoaderPly, AbsurdCountsDoNotAllocate) {
     TempDir tmp;
     for (Fmt fmt : {Fmt::ascii, Fmt::le, Fmt::be}) {

@@ -167,6 +167,10 @@ TEST(Camera, ParseCameraString) {
     EXPECT_NE(message("1,2,3,0,0,0,200").find("fov"), std::string::npos);
     EXPECT_NE(message("1,1,1,1,1,1").find("same point"), std::string::npos);
     EXPECT_NE(message("nan,0,0,0,0,0").find("not finite"), std::string::npos);
+    // Issue 16: 1e39 was "not a number"; it is a number, beyond float's range.
+    EXPECT_NE(message("1e39,0,0,0,0,0").find("component 1 ('1e39') is outside the range of float"), std::string::npos)
+        << message("1e39,0,0,0,0,0");
+    EXPECT_NE(message("0,-inf,0,0,0,0").find("component 2"), std::string::npos);
     EXPECT_NE(message("1,2,3,4,5").find("--camera '1,2,3,4,5'"), std::string::npos);
 }
 

@@ -62,9 +62,14 @@ int run_bench(const BenchArgs& args) {
     RaySetOptions ray_options;
     parse_ray_set_size(args.size, ray_options);
     if (!args.camera.empty()) ray_options.camera = parse_camera(args.camera);
-    if (args.reps < 1) throw Error("--reps must be at least 1 (5 or more for a trustworthy median)");
-    if (args.rounds < 1) throw Error("--rounds must be at least 1");
+    // Upper limits bound the run: 2e9 passes of 10^5 rays would run for years, silently.
+    if (args.reps < 1 || args.reps > kMaxReps)
+        throw Error("--reps " + std::to_string(args.reps) + ": must be between 1 and " + std::to_string(kMaxReps) +
+                    " (5 or more for a trustworthy median)");
+    if (args.rounds < 1 || args.rounds > kMaxRounds)
+        throw Error("--rounds " + std::to_string(args.rounds) + ": must be between 1 and " + std::to_string(kMaxRounds));
     if (!(args.pass_budget_ms >= 0.0)) throw Error("--pass-budget must be a non-negative number of milliseconds");
+    refuse_output_is_input(args.json, args.scenes);
     refuse_overwrite(args.json, args.force);
     std::vector<TracerFactory> tracers =
         thicket_tracers(args.accels.empty() ? std::vector<std::string>{"bvh"} : args.accels);
@@ -185,7 +190,7 @@ Command add_bench_command(CLI::App& app) {
     cmd->add_option("-c,--camera", args->camera,
                     "camera for every scene: position and target (and vertical fov in degrees, default 45); up is +y")
         ->type_name("px,py,pz,tx,ty,tz[,fov]");
-    cmd->add_option("--reps", args->reps, "timed passes per figure, after one warm-up pass")
+    cmd->add_option("--reps", args->reps, "timed passes per figure, after one warm-up pass (1..1000)")
         ->default_str("5")
         ->type_name("N");
     cmd->add_option("--rounds", args->rounds,

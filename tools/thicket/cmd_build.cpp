@@ -20,12 +20,12 @@ struct BuildArgs {
 
 int run_build(const BuildArgs& args) {
     const std::optional<AccelSpec> spec = validate_accel_choice(args.accel);
-    refuse_overwrite(args.output, args.force);
+    const std::string output = prepare_output(args.output, args.force, {args.scene});
     const Scene scene = load_scene_verbose(args.scene);
     const std::unique_ptr<Accel> accel = make_accel_verbose(args.accel, spec, scene, args.threads);
-    write_atomically(args.output, [&](const std::string& temp) { save_accel(*accel, scene, temp); });
+    save_accel(*accel, scene, output);
     std::error_code size_ec;
-    const auto bytes = std::filesystem::file_size(args.output, size_ec);
+    const auto bytes = std::filesystem::file_size(output, size_ec);
     std::printf("wrote   %s (%s)\n", args.output.c_str(), size_ec ? "?" : format_bytes(double(bytes)).c_str());
     return 0;
 }
@@ -39,8 +39,8 @@ Command add_build_command(CLI::App& app) {
                 "the same byte for byte whatever --threads is.");
     add_scene_argument(cmd, args->scene);
     add_accel_options(cmd, args->accel, /*accel_required=*/true);
-    cmd->add_option("-o,--output", args->output, "file to save the structure to")->required()->type_name("FILE");
-    cmd->add_flag("-f,--force", args->force, "overwrite the output file if it exists");
+    cmd->add_option("-o,--output", args->output, "file to save the structure to (- for stdout)")->required()->type_name("FILE");
+    cmd->add_flag("-f,--force", args->force, kForceHelp);
     add_threads_option(cmd, args->threads);
     return {cmd, [args] { return run_build(*args); }};
 }

@@ -185,8 +185,11 @@ int run_compare(const CompareArgs& args) {
     if (!args.camera.empty()) ray_options.camera = parse_camera(args.camera);
     settings.width = ray_options.width;
     settings.height = ray_options.height;
-    if (args.reps < 1) throw Error("--reps must be at least 1 (5 or more for a trustworthy median)");
-    if (args.build_reps < 1) throw Error("--build-reps must be at least 1");
+    if (args.reps < 1 || args.reps > kMaxReps)
+        throw Error("--reps " + std::to_string(args.reps) + ": must be between 1 and " + std::to_string(kMaxReps) +
+                    " (5 or more for a trustworthy median)");
+    if (args.build_reps < 1 || args.build_reps > kMaxReps)
+        throw Error("--build-reps " + std::to_string(args.build_reps) + ": must be between 1 and " + std::to_string(kMaxReps));
     if (args.max_size < 1 || args.max_size > kMaxSceneSize)
         throw Error("--max-size " + std::to_string(args.max_size) + " must be from 1 to " + std::to_string(kMaxSceneSize));
     if (!(args.pass_budget_ms >= 0.0)) throw Error("--pass-budget must be a non-negative number of milliseconds");
@@ -209,6 +212,11 @@ int run_compare(const CompareArgs& args) {
     for (const PlotFiles& f : plots) {
         refuse_overwrite(f.growth, args.force);
         refuse_overwrite(f.speed, args.force);
+    }
+    refuse_output_is_input(args.json, args.scenes);
+    for (const PlotFiles& f : plots) {
+        refuse_output_is_input(f.growth, args.scenes);
+        refuse_output_is_input(f.speed, args.scenes);
     }
     refuse_overwrite(args.json, args.force);
     if (!args.no_plots) check_plot_dir(args.plot_dir);
@@ -256,9 +264,13 @@ int run_compare(const CompareArgs& args) {
         std::vector<Scene> sized;
         if (!args.no_growth) {
             for (size_t n : settings.growth.sizes) sized.push_back(scene_of_size(scene, n));
-            const int rounds = subdivision_rounds(scene.primitive_count(), settings.growth.sizes.back());
+            const size_t triangles = scene.mesh.triangle_count();
+            const int rounds = subdivision_rounds(triangles, settings.growth.sizes.back());
+            if (scene.has_shapes())
+                std::fprintf(stderr, "sizes   %s: made of its %zu triangles; its %zu shapes are left out\n", label.c_str(),
+                             triangles, scene.shapes.size());
             std::fprintf(stderr, "sizes   %s: %s%s\n", label.c_str(), sizes_text(settings.growth.sizes).c_str(),
-                         rounds ? (" (above " + size_label(scene.primitive_count()) +
+                         rounds ? (" (above " + size_label(triangles) +
                                    ": from the triangles split into four, up to " + std::to_string(rounds) +
                                    (rounds == 1 ? " time)" : " times)"))
                                       .c_str()

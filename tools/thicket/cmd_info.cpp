@@ -29,6 +29,9 @@ void print_scene(const Scene& scene) {
     std::printf("  triangles            %zu\n", m.triangle_count());
     std::printf("  vertices             %zu\n", m.positions.size());
     std::printf("  zero-area triangles  %zu\n", zero_area);
+    const VertexCounts bad = count_bad_vertices(scene);
+    std::printf("  non-finite vertices  %zu (NaN or infinite: never hit)\n", bad.nonfinite);
+    std::printf("  vertices beyond 1e18 %zu (float products overflow: hits may be lost)\n", bad.large);
     if (scene.has_shapes()) {
         // Per type, in the order of the Shape variant.
         std::vector<size_t> count(std::variant_size_v<Shape>, 0);

@@ -18,6 +18,7 @@ struct RaysArgs {
     std::string size = "320x240";
     std::string camera;
     std::string output;
+    bool force = false;
     unsigned threads = 0;
 };
 
@@ -49,6 +50,7 @@ int run_rays(const RaysArgs& args) {
     RaySetOptions options;
     parse_ray_set_size(args.size, options);
     if (!args.camera.empty()) options.camera = parse_camera(args.camera);
+    const std::string output = prepare_output(args.output, args.force, {args.scene});
 
     const Scene scene = load_scene_verbose(args.scene);
     const std::unique_ptr<Accel> hits_from = build_accel(kRaySetHitSpec, scene);
@@ -58,7 +60,7 @@ int run_rays(const RaysArgs& args) {
     const RaySet& set = sets.front();
     std::printf("rays    %s: %zu rays (%s), from a %dx%d image\n", set.name.c_str(), set.rays.size(),
                 set.any_hit ? "trace with --any-hit" : "closest hit", options.width, options.height);
-    write_npy_f32(args.output, {set.rays.size(), 8}, ray_matrix(set.rays));
+    write_npy_f32(output, {set.rays.size(), 8}, ray_matrix(set.rays));
     std::printf("wrote   %s\n", args.output.c_str());
     return 0;
 }
@@ -88,7 +90,8 @@ Command add_rays_command(CLI::App& app) {
     cmd->add_option("-c,--camera", args->camera,
                     "camera position and target (and vertical field of view in degrees, default 45); up is +y")
         ->type_name("px,py,pz,tx,ty,tz[,fov]");
-    cmd->add_option("-o,--output", args->output, ".npy file to write the rays to")->required()->type_name("FILE");
+    cmd->add_option("-o,--output", args->output, ".npy file to write the rays to (- for stdout)")->required()->type_name("FILE");
+    cmd->add_flag("-f,--force", args->force, kForceHelp);
     add_threads_option(cmd, args->threads);
     return {cmd, [args] { return run_rays(*args); }};
 }

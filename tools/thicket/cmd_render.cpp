@@ -1,5 +1,6 @@
 // `thicket render`: a preview image through a structure (depth, normal or heatmap view).
-#include <charconv>
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -22,21 +23,9 @@ struct RenderArgs {
     double heat_max = 0.0;
     bool no_legend = false;
     std::string output = "render.png";
+    bool force = false;
     unsigned threads = 0;
 };
-
-void parse_size(const std::string& text, int& width, int& height) {
-    const size_t x = text.find_first_of("xX");
-    auto number = [&](std::string_view s, int& out) {
-        const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
-        return !s.empty() && ec == std::errc() && end == s.data() + s.size();
-    };
-    if (x == std::string::npos || !number(std::string_view(text).substr(0, x), width) ||
-        !number(std::string_view(text).substr(x + 1), height))
-        throw Error("--size '" + text + "': expected WIDTHxHEIGHT, e.g. 640x480");
-    if (width < 1 || height < 1 || width > Image::kMaxSide || height > Image::kMaxSide)
-        throw Error("--size '" + text + "': width and height must be between 1 and " + std::to_string(Image::kMaxSide));
-}
 
 std::string vec_text(Vec3 v) {
     char buf[96];
@@ -48,7 +37,7 @@ int run_render(const RenderArgs& args) {
     // Check every option before the slow work, so a typo costs nothing.
     RenderOptions options;
     options.view = parse_view(args.view);
-    parse_size(args.size, options.width, options.height);
+    parse_image_size(args.size, options.width, options.height);
     options.threads = args.threads;
     options.heat_max = args.heat_max;
     options.legend = !args.no_legend;
@@ -56,10 +45,20 @@ int run_render(const RenderArgs& args) {
     std::optional<Camera> camera;
     if (!args.camera.empty()) camera = parse_camera(args.camera);
     const std::optional<AccelSpec> spec = validate_accel_choice(args.accel);
+    const std::string output = prepare_output(args.output, args.force, {args.scene, args.accel.load});
 
     const Scene scene = load_scene_verbose(args.scene);
     const std::unique_ptr<Accel> accel = make_accel_verbose(args.accel, spec, scene, args.threads);
     if (!camera) camera = auto_camera(scene.bounds(), float(options.width) / float(options.height));
+    // Rays from or toward coordinates past 1e18 overflow float in the triangle test: the image
+    // comes out empty. Say why rather than leave a black picture unexplained.
+    {
+        const Vec3 p = camera->position();
+        const float far = std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
+        if (!(far <= kLargeCoordinate))
+            std::fprintf(stderr, "warning: the camera stands at %g from the origin (the scene's bounds reach that far): "
+                                 "float arithmetic overflows beyond 1e18 and the image may be empty\n", double(far));
+    }
     std::printf("camera  --camera %s,%s,%g%s\n", vec_text(camera->position()).c_str(),
                 vec_text(camera->target()).c_str(), double(camera->fov_degrees()), args.camera.empty() ? " (auto)" : "");
     std::fflush(stdout);
@@ -80,9 +79,9 @@ int run_render(const RenderArgs& args) {
                     stats.legend_drawn || !options.legend ? "" : " (image too small for the legend)");
     }
 
-    const std::filesystem::path out(args.output);
+    const std::filesystem::path out(output);
     if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
-    write_png(image, args.output);
+    write_png(image, output);
     std::printf("wrote   %s\n", args.output.c_str());
     return 0;
 }
@@ -108,9 +107,11 @@ Command add_render_command(CLI::App& app) {
                     "so that images of different structures share one scale")
         ->type_name("N");
     cmd->add_flag("--no-legend", args->no_legend, "heatmap: leave out the colour-bar legend");
-    cmd->add_option("-o,--output", args->output, "PNG file to write (its directory is created if missing)")
+    cmd->add_option("-o,--output", args->output,
+                    "PNG file to write (its directory is created if missing; - for stdout)")
         ->default_str("render.png")
         ->type_name("FILE");
+    cmd->add_flag("-f,--force", args->force, kForceHelp);
     add_threads_option(cmd, args->threads);
     return {cmd, [args] { return run_render(*args); }};
 }

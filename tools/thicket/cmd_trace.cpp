@@ -24,13 +24,15 @@ struct TraceArgs {
     bool count = false;
     bool all = false;
     bool coherent = false;
+    bool force = false;
     unsigned threads = 0;
 };
 
 /// --count and --all: every surface crossing of each valid ray (Accel::all_hits), invalid rows
 /// counted as 0 crossings. --all writes records (ray, t, prim, u, v), by ray then t.
-void write_crossings(const TraceArgs& args, const Accel& accel, const std::vector<Ray>& valid,
-                     const std::vector<size_t>& row_of, size_t n, const BatchOptions& batch) {
+void write_crossings(const TraceArgs& args, const std::string& output, const Accel& accel,
+                     const std::vector<Ray>& valid, const std::vector<size_t>& row_of, size_t n,
+                     const BatchOptions& batch) {
     const auto start = std::chrono::steady_clock::now();
     if (args.count) {
         std::vector<uint32_t> valid_counts(valid.size()), counts(n, 0);
@@ -38,7 +40,7 @@ void write_crossings(const TraceArgs& args, const Accel& accel, const std::vecto
         size_t total = 0;
         for (size_t k = 0; k < valid.size(); ++k) counts[row_of[k]] = valid_counts[k], total += valid_counts[k];
         std::printf("count   %zu crossings of %zu rays in %s\n", total, n, format_duration(ms_since(start) / 1000).c_str());
-        write_npy_u32(args.output, counts);
+        write_npy_u32(output, counts);
         return;
     }
     const HitLists lists = accel.all_hits(valid, batch);
@@ -56,13 +58,14 @@ void write_crossings(const TraceArgs& args, const Accel& accel, const std::vecto
         }
     std::printf("all     %zu crossings of %zu rays in %s\n", lists.hits.size(), n,
                 format_duration(ms_since(start) / 1000).c_str());
-    write_npy_records(args.output, {{"ray", "<u4"}, {"t", "<f4"}, {"prim", "<u4"}, {"u", "<f4"}, {"v", "<f4"}},
+    write_npy_records(output, {{"ray", "<u4"}, {"t", "<f4"}, {"prim", "<u4"}, {"u", "<f4"}, {"v", "<f4"}},
                       lists.hits.size(), records);
 }
 
 int run_trace(const TraceArgs& args) {
     if (args.any_hit + args.count + args.all > 1) throw Error("trace: choose one of --any-hit, --count and --all");
     const std::optional<AccelSpec> spec = validate_accel_choice(args.accel);
+    const std::string output = prepare_output(args.output, args.force, {args.scene, args.rays, args.accel.load});
     const NpyFloatArray rays = read_npy_matrix(args.rays, 8);
     const size_t n = rays.shape[0];
     std::printf("rays    %s: %zu rays\n", args.rays.c_str(), n);
@@ -85,7 +88,7 @@ int run_trace(const TraceArgs& args) {
     if (args.count || args.all) {
         BatchOptions batch;
         batch.threads = args.threads;
-        write_crossings(args, *accel, valid, row_of, n, batch);
+        write_crossings(args, output, *accel, valid, row_of, n, batch);
         std::printf("wrote   %s\n", args.output.c_str());
         return 0;
     }
@@ -125,9 +128,9 @@ int run_trace(const TraceArgs& args) {
         std::printf("note    %zu rays were invalid (NaN, infinite origin or direction, zero direction or "
                     "tmin > tmax) and count as misses\n", invalid);
     if (args.any_hit)
-        write_npy_u8(args.output, occluded);
+        write_npy_u8(output, occluded);
     else
-        write_npy_hits(args.output, hits);
+        write_npy_hits(output, hits);
     std::printf("wrote   %s\n", args.output.c_str());
     return 0;
 }
@@ -152,9 +155,10 @@ Command add_trace_command(CLI::App& app) {
     cmd->add_option("-r,--rays", args->rays, "rays to trace: .npy float array of shape (N, 8)")
         ->required()
         ->type_name("FILE");
-    cmd->add_option("-o,--output", args->output, ".npy file to write the hits (or occlusion flags) to")
+    cmd->add_option("-o,--output", args->output, ".npy file to write the hits (or occlusion flags) to (- for stdout)")
         ->required()
         ->type_name("FILE");
+    cmd->add_flag("-f,--force", args->force, kForceHelp);
     cmd->add_flag("--any-hit", args->any_hit, "only ask whether each ray is blocked (faster), write a uint8 array");
     cmd->add_flag("--count", args->count, "count every surface crossing of each ray, write a uint32 array");
     cmd->add_flag("--all", args->all, "list every surface crossing of each ray, write (ray, t, prim, u, v) records");

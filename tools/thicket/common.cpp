@@ -1,11 +1,15 @@
 #include "common.h"
 
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 
+#include <unistd.h>
+
 #include "thicket/core/error.h"
+#include "thicket/util/atomic_file.h"
 #include "thicket/util/progress.h"
 
 namespace thicket::cli {
@@ -66,9 +70,27 @@ std::string format_bytes(double bytes) {
     return buf;
 }
 
+VertexCounts count_bad_vertices(const Scene& scene) {
+    VertexCounts c;
+    for (const Vec3& p : scene.mesh.positions) {
+        const bool finite = std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+        c.nonfinite += !finite;
+        c.large += finite && (std::fabs(p.x) > kLargeCoordinate || std::fabs(p.y) > kLargeCoordinate ||
+                              std::fabs(p.z) > kLargeCoordinate);
+    }
+    return c;
+}
+
 Scene load_scene_verbose(const std::string& path) {
     const auto start = std::chrono::steady_clock::now();
     Scene scene = load_scene(path);
+    const VertexCounts bad = count_bad_vertices(scene);
+    if (bad.nonfinite)
+        std::fprintf(stderr, "%s: warning: %zu vertices are NaN or infinite (beyond float's 3.4e38); triangles using them are never hit\n",
+                     path.c_str(), bad.nonfinite);
+    if (bad.large)
+        std::fprintf(stderr, "%s: warning: %zu vertices lie beyond 1e18; float arithmetic overflows there and hits may be lost\n",
+                     path.c_str(), bad.large);
     const std::string shapes = scene.has_shapes() ? ", " + std::to_string(scene.shapes.size()) + " shapes" : "";
     std::printf("scene   %s: %zu triangles%s, %zu vertices, loaded in %s\n", scene.name.c_str(),
                 scene.mesh.triangle_count(), shapes.c_str(), scene.mesh.positions.size(),
@@ -124,9 +146,30 @@ std::unique_ptr<Accel> make_accel_verbose(const AccelChoice& choice, const std::
 }
 
 void refuse_overwrite(const std::string& path, bool force) {
-    std::error_code ec;
-    if (!path.empty() && !force && std::filesystem::exists(path, ec))
-        throw Error(path + " already exists (use --force to overwrite it)");
+    if (path.empty()) return;
+    const OutputTarget target = resolve_output(path);
+    if (target.kind == OutputTarget::Regular && !force) throw Error(path + " already exists (use --force to overwrite it)");
+}
+
+void refuse_output_is_input(const std::string& output, const std::vector<std::string>& inputs) {
+    if (output.empty() || output == "-") return;
+    for (const std::string& in : inputs) {
+        std::error_code ec;
+        if (!in.empty() && std::filesystem::equivalent(output, in, ec) && !ec)
+            throw Error(output + " is the input " + in + ": writing it would destroy the input; choose another output");
+    }
+}
+
+std::string prepare_output(const std::string& output, bool force, const std::vector<std::string>& inputs) {
+    refuse_output_is_input(output, inputs);
+    refuse_overwrite(output, force);
+    if (output != "-") return output;
+    // The data goes to the original stdout, through a descriptor of its own; the progress lines
+    // every command prints go to stderr from here on.
+    std::fflush(stdout);
+    const int data = ::dup(STDOUT_FILENO);
+    if (data < 0 || ::dup2(STDERR_FILENO, STDOUT_FILENO) < 0) throw Error("-: cannot redirect stdout");
+    return "/dev/fd/" + std::to_string(data);
 }
 
 }  // namespace thicket::cli

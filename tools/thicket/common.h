@@ -49,8 +49,18 @@ void add_threads_option(CLI::App* cmd, unsigned& threads);
 /// Parses --accel's spec before any slow work, so a typo fails at once (throws Error). Returns
 /// the parsed spec for make_accel_verbose() (the spec is parsed once); nullopt with --load.
 std::optional<AccelSpec> validate_accel_choice(const AccelChoice& choice);
-/// Loads the scene and prints one line about it.
+/// Loads the scene and prints one line about it, and a warning on stderr when vertices are NaN,
+/// infinite (1e40 in a file is infinite as a float) or beyond kLargeCoordinate.
 Scene load_scene_verbose(const std::string& path);
+
+/// Coordinates beyond 1e18 in magnitude: ray/triangle products of such numbers overflow float
+/// (their squares pass 3.4e38), so hits there are lost; the CLI warns about them.
+inline constexpr float kLargeCoordinate = 1e18f;
+/// Vertices of `scene` that are NaN or infinite, and those finite but beyond kLargeCoordinate.
+struct VertexCounts {
+    size_t nonfinite = 0, large = 0;
+};
+VertexCounts count_bad_vertices(const Scene& scene);
 /// Builds (or loads with --load) the structure on up to `threads` threads (0: every core) and
 /// prints one line about it. `spec`: validate_accel_choice()'s result for `choice`.
 std::unique_ptr<Accel> make_accel_verbose(const AccelChoice& choice, const std::optional<AccelSpec>& spec,
@@ -59,9 +69,25 @@ std::unique_ptr<Accel> make_accel_verbose(const AccelChoice& choice, const std::
 /// "12.3 KiB" style byte counts.
 std::string format_bytes(double bytes);
 
-/// Throws Error "PATH already exists (use --force to overwrite it)" unless `force`, the path is
-/// empty (no such output asked for), or nothing is there. Call it before the slow work.
+/// Throws Error "PATH already exists (use --force to overwrite it)" when PATH is an existing
+/// regular file (through symlinks) and not `force`; an empty path (no such output asked for), a
+/// new path and a special file (/dev/null, a FIFO, "-") pass. Also throws resolve_output()'s
+/// errors (a directory, a read-only file). Call it before the slow work.
 void refuse_overwrite(const std::string& path, bool force);
+/// Throws Error "OUTPUT is the input INPUT" when `output` names the same file as one of `inputs`
+/// (through links; inputs that do not exist or are empty are skipped): writing it would destroy
+/// the input, --force or not.
+void refuse_output_is_input(const std::string& output, const std::vector<std::string>& inputs);
+/// The checks above for a command's one output: refuse_output_is_input, then refuse_overwrite.
+/// For "-" (stdout) it also sends the command's messages to stderr from now on, so that stdout
+/// carries only the data, and returns the path to write the data to; otherwise returns `output`.
+std::string prepare_output(const std::string& output, bool force, const std::vector<std::string>& inputs);
+/// Largest --reps, --build-reps (1000 timed passes) and --rounds (100) the bench and compare take.
+inline constexpr int kMaxReps = 1000;
+inline constexpr int kMaxRounds = 100;
+/// The help text of --force for a command whose output is FILE.
+inline constexpr const char* kForceHelp = "overwrite the output file if it exists (special files such as /dev/null, "
+                                          "a FIFO or - for stdout are written without it)";
 /// `asked` with every `all` replaced by every registered variant (all_accel_variants()),
 /// duplicates dropped (the first kept), each spec parsed so that a typo throws Error before any
 /// slow work.

@@ -125,9 +125,16 @@ std::unique_ptr<Accel> build_accel(std::string_view spec, const Scene& scene, un
 /// front need not parse it again).
 std::unique_ptr<Accel> build_accel(const AccelSpec& spec, const Scene& scene, unsigned threads = 0);
 
-/// Saves/loads a structure with a versioned, checksummed header bound to the scene's fingerprint.
+/// Saves/loads a structure with a versioned header bound to the scene's fingerprint; the checksum
+/// covers the spec text and the payload. save_accel writes through write_atomically().
 void save_accel(const Accel& accel, const Scene& scene, const std::string& path);
 std::unique_ptr<Accel> load_accel(const std::string& path, const Scene& scene);
+/// The bytes save_accel() writes, and load_accel() of such bytes (`name` stands for the file in
+/// messages): what the saved-structure fuzzer drives.
+std::string saved_accel_bytes(const Accel& accel, const Scene& scene);
+std::unique_ptr<Accel> load_accel_bytes(std::string_view bytes, const Scene& scene, const std::string& name);
+/// The checksum save_accel() stores: FNV-1a over the spec text, then the payload.
+uint64_t saved_accel_checksum(std::string_view spec, std::string_view payload);
 
 /// Human-readable listing of every structure, its keys and allowed values (`thicket accels`).
 std::string describe_accels();

@@ -74,7 +74,10 @@ std::vector<std::string> parse_ray_set_list(std::string_view text);
 
 /// Parses "WIDTHxHEIGHT" (e.g. 320x240) into options.width and options.height; throws Error
 /// quoting the text when it is malformed or a side is outside [1, 16384].
+/// Also throws Error "... needs N GiB of memory" when ray_set_bytes() exceeds what is available.
 void parse_ray_set_size(std::string_view text, RaySetOptions& options);
+/// Bytes generate_ray_sets() needs at most for options.width x options.height (all four sets).
+uint64_t ray_set_bytes(const RaySetOptions& options);
 
 /// Camera and light of the sets, by the rules above.
 struct RaySetView {

@@ -24,6 +24,9 @@ public:
     /// Adopts an already built (e.g. loaded) BIH after checking it fits `prims`.
     Bih(Prims prims, BihData data) : prims_(std::move(prims)), data_(std::move(data)) {
         validate_bih(data_, prims_.size());
+        std::vector<Aabb> bounds(prims_.size());
+        for (uint32_t i = 0; i < prims_.size(); ++i) bounds[i] = prims_.bounds(i);
+        validate_bih_bounds(data_, bounds);
     }
 
     Aabb bounds() const override { return data_.bounds; }

@@ -34,6 +34,11 @@ BihFigures bih_figures(const BihData& bih);
 /// Checks the structural invariants (indices in range, children after parents, depth bounded,
 /// every primitive referenced once); throws Error describing the first violation.
 void validate_bih(const BihData& bih, size_t primitive_count);
+/// What traversal relies on beyond structure (call after validate_bih): the root box contains
+/// every primitive, and each interior node's planes enclose its whole subtree on its axis (left
+/// subtree's bounds <= left_max, right subtree's >= right_min), so clipping the ray interval at
+/// the planes never cuts off a hit.
+void validate_bih_bounds(const BihData& bih, std::span<const Aabb> prim_bounds);
 
 /// Payload I/O for save_accel/load_accel; read_bih validates before returning.
 void write_bih(std::ostream& out, const BihData& bih);

@@ -64,6 +64,10 @@ BvhFigures bvh_figures(const BvhData& bvh);
 /// Checks the structural invariants (indices in range, children after parents, depth bounded,
 /// every primitive referenced once); throws Error describing the first violation.
 void validate_bvh(const BvhData& bvh, size_t primitive_count);
+/// What traversal relies on beyond structure (call after validate_bvh): every leaf box contains
+/// its primitives' bounds, every interior box its children's, every child-order byte names real
+/// axes. With these, culling a node whose box the ray misses never loses a hit.
+void validate_bvh_bounds(const BvhData& bvh, std::span<const Aabb> prim_bounds);
 
 /// Payload I/O for save_accel/load_accel; read_bvh validates before returning.
 void write_bvh(std::ostream& out, const BvhData& bvh);

@@ -28,6 +28,9 @@ public:
     Bvh(Prims prims, BvhData data, BvhTraversal traversal)
         : prims_(std::move(prims)), data_(std::move(data)), traversal_(traversal) {
         validate_bvh(data_, prims_.size());
+        std::vector<Aabb> bounds(prims_.size());
+        for (uint32_t i = 0; i < prims_.size(); ++i) bounds[i] = prims_.bounds(i);
+        validate_bvh_bounds(data_, bounds);
     }
 
     Aabb bounds() const override { return data_.nodes_used ? data_.nodes[0].bounds() : Aabb{}; }

@@ -53,6 +53,10 @@ KdFigures kdtree_figures(const KdTreeData& tree, const KdCostModel& cost = {});
 /// primitive indices in range, depth at most kKdMaxDepth, every node reachable once); throws
 /// Error describing the first violation.
 void validate_kdtree(const KdTreeData& tree, size_t primitive_count);
+/// What traversal relies on (call after validate_kdtree): the root voxel holds every finite
+/// primitive and every leaf lists each primitive the builders' classification sends to its cell
+/// (src/kdtree/validate_coverage.cpp). Costs about one median build's classification pass.
+void validate_kdtree_coverage(const KdTreeData& tree, const KdBuildInput& input);
 
 /// Payload I/O for save_accel/load_accel; read_kdtree validates before returning.
 void write_kdtree(std::ostream& out, const KdTreeData& tree);

@@ -28,6 +28,10 @@ public:
     KdTree(Prims prims, KdTreeData data, const KdBuildOptions& options, KdTraversal traversal)
         : prims_(std::move(prims)), data_(std::move(data)), options_(options), traversal_(traversal) {
         validate_kdtree(data_, prims_.size());
+        std::vector<Aabb> bounds(prims_.size());
+        for (uint32_t i = 0; i < prims_.size(); ++i) bounds[i] = prims_.bounds(i);
+        const KdBuildInput input{bounds, [this](uint32_t i, const Aabb& box) { return clipped_bounds(prims_, i, box); }};
+        validate_kdtree_coverage(data_, input);
     }
 
     Aabb bounds() const override { return data_.nodes.empty() ? Aabb{} : data_.bounds; }

@@ -18,6 +18,10 @@ namespace thicket {
 
 /// Placement and marching parameters shared by both fractals. Lengths are in object units (the
 /// fractal at its own size, about 1), so a placed fractal is the same shape at any scale.
+/// Largest iterations x max_steps a fractal takes: bounds the map iterations one ray may cost
+/// (about 20 times the defaults' 196,608; tens of milliseconds per ray).
+inline constexpr int64_t kMaxFractalWorkPerRay = int64_t(1) << 22;
+
 struct FractalMarch {
     Vec3 center{0.0f};  ///< world position of the object-space origin
     float scale = 1.0f;  ///< world units per object unit (uniform)

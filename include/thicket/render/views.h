@@ -22,6 +22,11 @@ enum class View {
 View parse_view(std::string_view name);
 const char* view_name(View view);
 
+/// Parses `render --size` "WIDTHxHEIGHT": each side in [1, Image::kMaxSide], and the image with
+/// its per-pixel buffers must fit in available memory; throws Error quoting the text (and saying
+/// how much memory it needs).
+void parse_image_size(std::string_view text, int& width, int& height);
+
 struct RenderOptions {
     View view = View::Normal;
     int width = 640, height = 480;

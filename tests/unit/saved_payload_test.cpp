@@ -1,0 +1,136 @@
+// Saved structures whose bytes were changed after saving (issue 16): the spec is inside the
+// checksum, and a payload changed with its checksum recomputed to match (as a careless tool or a
+// fuzzer would) is either refused by the structure's validator or answers every ray like brute
+// force. The validators must prove what traversal relies on, not only that the file is well formed.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include "support/test_scenes.h"
+#include "thicket/accel/registry.h"
+#include "thicket/bvh/bvh.h"
+#include "thicket/prims/triangles.h"
+#include "thicket/core/error.h"
+
+namespace thicket {
+namespace {
+
+/// Where the spec, the checksum and the payload lie in saved_accel_bytes()'s layout.
+struct Layout {
+    size_t spec_at, spec_len, checksum_at, payload_at;
+};
+Layout layout_of(const std::string& bytes) {
+    const size_t spec_len_at = 8 + 4 + 4 + 8 + 8;
+    uint32_t spec_len = 0;
+    std::memcpy(&spec_len, bytes.data() + spec_len_at, 4);
+    const size_t spec_at = spec_len_at + 4;
+    return {spec_at, spec_len, spec_at + spec_len + 8, spec_at + spec_len + 16};
+}
+
+/// The bytes with the checksum recomputed over their (changed) spec and payload.
+std::string reseal(std::string bytes) {
+    const Layout l = layout_of(bytes);
+    const uint64_t sum = saved_accel_checksum(std::string_view(bytes).substr(l.spec_at, l.spec_len),
+                                              std::string_view(bytes).substr(l.payload_at));
+    std::memcpy(bytes.data() + l.checksum_at, &sum, 8);
+    return bytes;
+}
+
+std::string error_of(const std::string& bytes, const Scene& scene) {
+    try {
+        load_accel_bytes(bytes, scene, "saved.bin");
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+TEST(SavedStructure, TheSpecTextIsInsideTheChecksum) {
+    const Scene scene = load_scene("cornell");
+    const std::string bytes = saved_accel_bytes(*build_accel("bvh:max-leaf=8", scene), scene);
+    std::string edited = bytes;
+    const size_t at = edited.find("max-leaf=8");
+    ASSERT_NE(at, std::string::npos);
+    edited[at + 9] = '1';
+    EXPECT_NE(error_of(edited, scene).find("checksum"), std::string::npos) << error_of(edited, scene);
+    EXPECT_EQ(error_of(bytes, scene), "");
+    EXPECT_EQ(load_accel_bytes(bytes, scene, "x")->spec(), parse_accel_spec("bvh:max-leaf=8").str());
+}
+
+// Every byte of each loadable structure's payload gets one bit flipped (bit i mod 8 of byte i),
+// the checksum recomputed: the result must be refused or agree with brute force on every ray.
+// The BSP is not in the list: its validator proves only structure so far (a flipped plane bit
+// loads and answers wrongly; docs/fuzzing.md), and the BSP's entry below shows it.
+TEST(SavedStructure, AFlippedPayloadBitIsRefusedOrHarmless) {
+    const Scene scene = load_scene("cornell");
+    const std::vector<Ray> rays = testing::conformance_rays(scene, 300, 16);
+    const auto brute = build_accel("brute", scene);
+    std::vector<Hit> truth;
+    for (const Ray& r : rays) truth.push_back(brute->intersect(r));
+    for (const char* spec : {"bvh", "bvh:traversal=ordered-axis", "kdtree", "kdtree:builder=median", "bih"}) {
+        const std::string bytes = saved_accel_bytes(*build_accel(spec, scene), scene);
+        const size_t payload_at = layout_of(bytes).payload_at;
+        size_t refused = 0, loaded = 0;
+        for (size_t i = payload_at; i < bytes.size(); ++i) {
+            std::string flipped = bytes;
+            flipped[i] = char(flipped[i] ^ (1 << (i % 8)));
+            std::unique_ptr<Accel> accel;
+            try {
+                accel = load_accel_bytes(reseal(flipped), scene, "flipped");
+            } catch (const Error&) {
+                ++refused;
+                continue;
+            }
+            ++loaded;
+            for (size_t k = 0; k < rays.size(); ++k) {
+                const Hit h = accel->intersect(rays[k]);
+                ASSERT_EQ(h.found(), truth[k].found())
+                    << spec << ": byte " << i - payload_at << " flipped, ray " << k << " loaded but answers wrongly";
+                if (h.found()) {
+                    ASSERT_LE(std::fabs(h.t - truth[k].t), 1e-5f * truth[k].t)
+                        << spec << ": byte " << i - payload_at << " flipped, ray " << k;
+                }
+                ASSERT_EQ(accel->occluded(rays[k]), truth[k].found()) << spec << ": byte " << i - payload_at;
+            }
+        }
+        EXPECT_GT(refused, 0u) << spec;
+        RecordProperty(std::string(spec) + "_loaded", int(loaded));
+    }
+}
+
+// Found by the fuzz.saved replay (the input is fuzz/regressions/saved/bvh-leaves-overlap.bin,
+// which fuzz.saved replays): a leaf whose first entry was changed to another leaf's still covered
+// n entries in total, fit its box, and loaded; two triangles became unreachable.
+TEST(SavedStructure, BvhLeavesThatShareEntriesAreRefused) {
+    const Scene scene = load_scene("cornell");
+    const auto accel = build_accel("bvh:max-leaf=2", scene);
+    BvhData data = dynamic_cast<const Bvh<Triangles<>>&>(*accel).data();
+    std::vector<uint32_t> leaves;
+    for (uint32_t i = 0; i < data.nodes_used; ++i)
+        if (i != 1 && data.nodes[i].is_leaf() && data.nodes[i].count == 2) leaves.push_back(i);
+    ASSERT_GE(leaves.size(), 2u);
+    data.nodes[leaves[1]].leftFirst = data.nodes[leaves[0]].leftFirst;
+    try {
+        validate_bvh(data, scene.primitive_count());
+        ADD_FAILURE() << "accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("leaves overlap"), std::string::npos) << e.what();
+    }
+}
+
+// The known gap, kept visible: a BSP whose plane offset was changed loads (its validator checks
+// structure, not coverage). When the BSP validator proves coverage, this test fails: then move
+// "bsp" into the list above and delete this test.
+TEST(SavedStructure, KnownGapABspWithAMovedPlaneStillLoads) {
+    const Scene scene = load_scene("cornell");
+    const std::string bytes = saved_accel_bytes(*build_accel("bsp", scene), scene);
+    std::string flipped = bytes;
+    const size_t at = layout_of(bytes).payload_at + 20;
+    flipped[at] = char(flipped[at] ^ (1 << (at % 8)));
+    EXPECT_EQ(error_of(reseal(flipped), scene), "");
+}
+
+}  // namespace
+}  // namespace thicket
