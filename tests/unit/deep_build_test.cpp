@@ -105,8 +105,10 @@ TEST(DeepBuild, ADeepTreeTakesNoMoreCStackThanABalancedOne) {
         if (min_depth > 0) {
             EXPECT_GE(deep_depth, balanced_depth) << spec;
         }
-        // A recursive builder would need at least one frame (well over 64 bytes) per extra level.
-        EXPECT_LE(deep_bytes, balanced_bytes + 64 * (deep_depth - balanced_depth) / 4)
+        // A recursive builder would need at least one frame (well over 64 bytes) per extra level;
+        // 48 per level leaves room for what is not recursion (AddressSanitizer's builds of the
+        // BIH's iterative builder used 34 bytes more per level of a 69-deep tree than of a 6-deep one).
+        EXPECT_LE(deep_bytes, balanced_bytes + 48 * (deep_depth - balanced_depth))
             << spec << ": depth " << deep_depth << " used " << deep_bytes << " bytes of stack, depth "
             << balanced_depth << " " << balanced_bytes;
         std::printf("%-40s depth %3zu: %6zu stack bytes; balanced depth %3zu: %6zu\n", spec, deep_depth, deep_bytes,
