@@ -31,9 +31,9 @@ def test_agrees_with_thicket_trace(tmp_path, scene_name):
     np.save(tmp_path / "rays.npy", rays)
     for spec in ("bvh8", "kdtree"):
         subprocess.run([CLI, "trace", scene_name, "--rays", str(tmp_path / "rays.npy"), "-o", str(tmp_path / "hits.npy"),
-                        "--accel", spec], check=True, capture_output=True)
+                        "--accel", spec, "--force"], check=True, capture_output=True)
         subprocess.run([CLI, "trace", scene_name, "--rays", str(tmp_path / "rays.npy"), "-o", str(tmp_path / "occ.npy"),
-                        "--accel", spec, "--any-hit"], check=True, capture_output=True)
+                        "--accel", spec, "--any-hit", "--force"], check=True, capture_output=True)
         cli = np.load(tmp_path / "hits.npy")
         ours = thicket.build(scene, spec).cast_rays(rays)
         assert 0.2 < np.isfinite(cli["t"]).mean() < 1.0

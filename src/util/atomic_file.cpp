@@ -73,6 +73,8 @@ void write_atomically(const std::string& path, const std::function<void(const st
         // Written through: a device or pipe cannot be replaced, and must not be.
         try {
             write(target.path);
+        } catch (const FileError& e) {
+            throw FileError(replace_all(e.what(), target.path, path));
         } catch (const Error& e) {
             throw Error(replace_all(e.what(), target.path, path));
         }
@@ -81,6 +83,10 @@ void write_atomically(const std::string& path, const std::function<void(const st
     const std::string temp = temp_name_for(target.path);
     try {
         write(temp);
+    } catch (const FileError& e) {
+        // The message names the user's path, not the temporary; the kind (OSError in Python) stays.
+        std::remove(temp.c_str());
+        throw FileError(replace_all(e.what(), temp, path));
     } catch (const Error& e) {
         std::remove(temp.c_str());
         throw Error(replace_all(e.what(), temp, path));

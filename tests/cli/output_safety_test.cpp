@@ -129,6 +129,21 @@ TEST_F(OutputSafety, RenderTraceAndRaysRefuseAnExistingFileWithoutForce) {
     EXPECT_EQ(thicket::read_npy_hits(path("hits.npy")).size(), 48u);
 }
 
+TEST_F(OutputSafety, ClosestRefusesAnExistingFileWithoutForceAndNeverItsInput) {
+    const std::vector<float> points = {0.1f, 0.2f, 0.3f, 0.5f, 0.5f, 0.5f};
+    thicket::write_npy_f32(path("points.npy"), {2, 3}, points);
+    write("closest.npy", "keep");
+    expect_error(run("closest cornell --points " + q("points.npy") + " -o " + q("closest.npy")),
+                 {"closest.npy already exists", "--force"});
+    EXPECT_EQ(read("closest.npy"), "keep");
+    const std::string before = read("points.npy");
+    expect_error(run("closest cornell --points " + q("points.npy") + " --force -o " + q("points.npy")),
+                 {"is the input"});
+    EXPECT_EQ(read("points.npy"), before);
+    EXPECT_EQ(run("closest cornell --points " + q("points.npy") + " --force -o " + q("closest.npy")).code, 0);
+    EXPECT_NE(read("closest.npy"), "keep");
+}
+
 TEST_F(OutputSafety, ReadOnlyFilesDirectoriesAndProcFilesAreRefusedClearly) {
     write("ro.png", "keep");
     fs::permissions(path("ro.png"), fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);

@@ -82,7 +82,10 @@ std::string polygon_then_triangle(int n) {
     for (int i = 0; i < n; ++i)
         text += "v " + std::to_string(std::cos(0.01 * i)) + " " + std::to_string(std::sin(0.01 * i)) + " 0\n";
     text += "v 0 0 1\nv 1 0 1\nv 0 1 1\nf";
-    for (int i = 1; i <= n; ++i) text += " " + std::to_string(i);
+    for (int i = 1; i <= n; ++i) {
+        text += ' ';
+        text += std::to_string(i);  // not " " + to_string(): GCC 12 warns falsely (-Wrestrict) on that
+    }
     text += "\nf " + std::to_string(n + 1) + " " + std::to_string(n + 2) + " " + std::to_string(n + 3) + "\n";
     return text;
 }

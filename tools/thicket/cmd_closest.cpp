@@ -19,10 +19,13 @@ struct ClosestArgs {
     std::string points;
     std::string output;
     unsigned threads = 0;
+    bool force = false;
 };
 
 int run_closest(const ClosestArgs& args) {
     const std::optional<AccelSpec> spec = validate_accel_choice(args.accel);
+    // Checked before any work: an existing output needs --force, and an input is never an output.
+    const std::string output = prepare_output(args.output, args.force, {args.scene, args.points, args.accel.load});
     const NpyFloatArray points = read_npy_matrix(args.points, 3);
     const size_t n = points.shape[0];
     for (size_t i = 0; i < 3 * n; ++i)
@@ -57,7 +60,7 @@ int run_closest(const ClosestArgs& args) {
         std::memcpy(r + 20, &s.u, 4);
         std::memcpy(r + 24, &s.v, 4);
     }
-    write_npy_records(args.output,
+    write_npy_records(output,
                       {{"x", "<f4"}, {"y", "<f4"}, {"z", "<f4"}, {"distance", "<f4"}, {"prim", "<u4"}, {"u", "<f4"},
                        {"v", "<f4"}},
                       n, records);
@@ -83,6 +86,7 @@ Command add_closest_command(CLI::App& app) {
         ->required()
         ->type_name("FILE");
     add_threads_option(cmd, args->threads);
+    cmd->add_flag("-f,--force", args->force, kForceHelp);
     return {cmd, [args] { return run_closest(*args); }};
 }
 
