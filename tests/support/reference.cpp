@@ -13,6 +13,7 @@
 
 #include "support/test_scenes.h"
 #include "thicket/accel/registry.h"
+#include "thicket/core/error.h"
 #include "thicket/core/hash.h"
 #include "thicket/util/atomic_file.h"
 #include "thicket/util/parallel.h"
@@ -34,9 +35,10 @@ std::string reference_cache_dir() {
 /// can never read stale answers. (A changed brute force cannot be seen here: the ctest fixture
 /// conformance.references empties the cache at the start of every run.)
 std::string cache_file(const std::string& dir, const Scene& scene, const std::string& isect,
-                       const std::vector<Ray>& rays) {
+                       const std::vector<Ray>& rays, size_t brute_stride) {
     uint64_t h = scene.fingerprint();
     h = fnv1a(isect.data(), isect.size(), h);
+    h = fnv1a(&brute_stride, sizeof brute_stride, h);
     h = fnv1a(rays.data(), rays.size() * sizeof(Ray), h);
     char name[32];
     std::snprintf(name, sizeof name, "%016llx.ref", static_cast<unsigned long long>(h));
@@ -69,30 +71,56 @@ void write_cached(const std::string& file, const Reference& ref) {
 
 }  // namespace
 
-const Reference& reference_for(const std::string& key, const Scene& scene, const std::string& isect, size_t count) {
+namespace {
+std::string describe(const Ray& r);
+std::string describe(const Hit& h);
+}  // namespace
+
+const Reference& reference_for(const std::string& key, const Scene& scene, const std::string& isect, size_t count,
+                               size_t brute_rays) {
     static std::mutex mutex;
     static std::map<std::string, std::unique_ptr<Reference>> cache;
     std::lock_guard<std::mutex> lock(mutex);
-    auto& slot = cache[key + "|" + isect + "|" + std::to_string(count)];
+    auto& slot = cache[key + "|" + isect + "|" + std::to_string(count) + "|" + std::to_string(brute_rays)];
     if (!slot) {
-        slot = std::make_unique<Reference>();
-        slot->rays = conformance_rays(scene, count);
-        slot->probe = std::make_shared<const PrimitiveProbe>(scene, isect);
+        auto ref = std::make_unique<Reference>();
+        ref->rays = conformance_rays(scene, count);
+        ref->probe = std::make_shared<const PrimitiveProbe>(scene, isect);
+        ref->brute = build_accel("brute:isect=" + isect, scene);
+        const size_t n = ref->rays.size();
+        ref->brute_stride = brute_rays >= n ? 1 : (n + brute_rays - 1) / std::max<size_t>(1, brute_rays);
         const std::string dir = reference_cache_dir();
-        const std::string file = dir.empty() ? "" : cache_file(dir, scene, isect, slot->rays);
-        if (file.empty() || !read_cached(file, *slot)) {
-            auto brute = build_accel("brute:isect=" + isect, scene);
-            const size_t n = slot->rays.size();
-            slot->hits.resize(n);
-            slot->occluded.resize(n);
-            parallel_for(n, 16, 0, [&](size_t begin, size_t end) {
-                for (size_t i = begin; i < end; ++i) {
-                    slot->hits[i] = brute->intersect(slot->rays[i]);
-                    slot->occluded[i] = brute->occluded(slot->rays[i]);
+        const std::string file = dir.empty() ? "" : cache_file(dir, scene, isect, ref->rays, ref->brute_stride);
+        if (file.empty() || !read_cached(file, *ref)) {
+            ref->hits.resize(n);
+            ref->occluded.resize(n);
+            const Accel& brute = *ref->brute;
+            const size_t stride = ref->brute_stride;
+            parallel_for((n + stride - 1) / stride, 16, 0, [&](size_t begin, size_t end) {
+                for (size_t k = begin; k < end; ++k) {
+                    ref->hits[k * stride] = brute.intersect(ref->rays[k * stride]);
+                    ref->occluded[k * stride] = brute.occluded(ref->rays[k * stride]);
                 }
             });
-            if (!file.empty()) write_cached(file, *slot);
+            if (stride > 1) {
+                // The fast reference answers every ray, and must answer brute force's rays as it does.
+                auto fast = build_accel("bvh:isect=" + isect, scene);
+                for (size_t i = 0; i < n; ++i) {
+                    const Hit h = fast->intersect(ref->rays[i]);
+                    const bool occ = fast->occluded(ref->rays[i]);
+                    if (!ref->from_brute(i)) {
+                        ref->hits[i] = h;
+                        ref->occluded[i] = occ;
+                    } else if (!same_closest_hit(h, ref->hits[i], ref->rays[i], *ref->probe) || occ != bool(ref->occluded[i])) {
+                        throw Error(scene.name + ": the fast reference " + fast->spec() + " disagrees with brute force on ray " +
+                                    std::to_string(i) + " (" + describe(ref->rays[i]) + "): " + describe(h) +
+                                    ", brute force " + describe(ref->hits[i]));
+                    }
+                }
+            }
+            if (!file.empty()) write_cached(file, *ref);
         }
+        slot = std::move(ref);
     }
     return *slot;
 }
@@ -157,18 +185,26 @@ std::string compare_with_reference(const Accel& accel, const Reference& ref, con
         const bool occ = accel.occluded(r);
         RayCounters occ_counters;
         const bool occ_counted = accel.occluded(r, occ_counters);
+        Hit want = ref.hits[i];
+        bool want_occluded = ref.occluded[i];
+        if (!ref.from_brute(i) && (!same_closest_hit(plain, want, r, *ref.probe) || occ != want_occluded ||
+                                   !same_closest_hit(batch_hit_of[i], want, r, *ref.probe))) {
+            // The fast reference and this structure differ: brute force says which is right.
+            want = ref.brute->intersect(r);
+            want_occluded = ref.brute->occluded(r);
+        }
         std::string what;
-        if (!same_closest_hit(plain, ref.hits[i], r, *ref.probe))
-            what = "closest hit " + describe(plain) + ", brute force " + describe(ref.hits[i]);
+        if (!same_closest_hit(plain, want, r, *ref.probe))
+            what = "closest hit " + describe(plain) + ", brute force " + describe(want);
         else if (!identical_hits(counted, plain))
             what = "counting pass differs: " + describe(counted) + " vs " + describe(plain);
-        else if (!same_closest_hit(batch_hit_of[i], ref.hits[i], r, *ref.probe) || batch_hit_of[i].t != plain.t)
+        else if (!same_closest_hit(batch_hit_of[i], want, r, *ref.probe) || batch_hit_of[i].t != plain.t)
             what = "coherent batch " + describe(batch_hit_of[i]) + ", one ray at a time " + describe(plain);
         else if (bool(batch_occluded_of[i]) != occ)
             what = std::string("batch occluded ") + (batch_occluded_of[i] ? "yes" : "no") + ", one ray at a time " +
                    (occ ? "yes" : "no");
-        else if (occ != bool(ref.occluded[i]) || occ_counted != occ)
-            what = std::string("occluded ") + (occ ? "yes" : "no") + ", brute force " + (ref.occluded[i] ? "yes" : "no");
+        else if (occ != want_occluded || occ_counted != occ)
+            what = std::string("occluded ") + (occ ? "yes" : "no") + ", brute force " + (want_occluded ? "yes" : "no");
         else if (counters.prims > most_tests || occ_counters.prims > most_tests)
             what = "tested " + std::to_string(std::max(counters.prims, occ_counters.prims)) + " primitives of " +
                    std::to_string(ref.probe->size()) + ": some more than once";

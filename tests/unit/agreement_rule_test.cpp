@@ -6,6 +6,8 @@
 #include <functional>
 #include <type_traits>
 #include <memory>
+#include <set>
+#include <tuple>
 
 #include "support/probe.h"
 #include "support/reference.h"
@@ -110,6 +112,28 @@ TEST_F(AgreementRule, ARealTieIsAccepted) {
     EXPECT_FALSE(same_closest_hit(ghost, first, ray, probe));
 }
 
+
+// Real scenes get 10^4 rays of which brute force answers only some (reference_for's fast
+// reference): an error on a ray brute force did not answer must still be caught, judged by brute
+// force then, and a correct structure must still pass.
+TEST(FastReference, ErrorsOnRaysBruteForceDidNotAnswerAreCaught) {
+    const Scene scene = nasty_scenes().back();
+    const Reference& ref = reference_for("fast-reference", scene, "moller", 3000, 300);
+    ASSERT_EQ(ref.brute_stride, 10u);
+    // The rays brute force did not answer, by their bits (the damage sees only the ray).
+    auto off_brute = std::make_shared<std::set<std::tuple<float, float, float, float, float, float>>>();
+    for (size_t i = 0; i < ref.rays.size(); ++i)
+        if (i % 10 == 5) {
+            const Ray& r = ref.rays[i];
+            off_brute->insert({r.org.x, r.org.y, r.org.z, r.dir.x, r.dir.y, r.dir.z});
+        }
+    const Broken correct(build_accel("bvh:builder=sweep-sah", scene), [](const Ray&, Hit h) { return h; });
+    EXPECT_EQ(compare_with_reference(correct, ref, scene.name), "");
+    const Broken dropping(build_accel("bvh:builder=sweep-sah", scene), [off_brute](const Ray& r, Hit h) {
+        return off_brute->count({r.org.x, r.org.y, r.org.z, r.dir.x, r.dir.y, r.dir.z}) ? Hit{} : h;
+    });
+    EXPECT_NE(compare_with_reference(dropping, ref, scene.name), "");
+}
 
 TEST(SahExemption, OnlyTheNamedKeyExplainsAMissingSahCost) {
     AccelStats s;
