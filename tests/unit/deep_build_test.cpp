@@ -96,7 +96,8 @@ TEST(DeepBuild, ADeepTreeTakesNoMoreCStackThanABalancedOne) {
         {"octree:max-depth=16", 16},       {"bvh:builder=midpoint,max-leaf=1", 40},
         {"bvh:builder=binned-sah,max-leaf=1", 40}, {"bvh:builder=sweep-sah,max-leaf=1", 40},
         {"bvh:builder=lbvh,max-leaf=1", 20}};
-    for (const auto& [spec, min_depth] : specs) {
+    for (const auto& [spec_binding, min_depth] : specs) {
+        const auto& spec = spec_binding;  // lambdas may not capture a structured binding before clang 16
         size_t deep_depth = 0, balanced_depth = 0;
         const size_t balanced_bytes = stack_bytes_used([&] { balanced_depth = build_accel(spec, balanced, 1)->stats().max_depth; });
         const size_t deep_bytes = stack_bytes_used([&] { deep_depth = build_accel(spec, deep, 1)->stats().max_depth; });
