@@ -28,27 +28,42 @@ class Whitted {
 public:
     Whitted(const RenderScene& rs, const Accel& accel, uint32_t max_depth)
         : rs_(rs), accel_(accel), max_depth_(std::min<uint32_t>(max_depth, 16)) {
+        // The emissive triangles of one material are one light (a quad light casts one shadow, not
+        // two): a point at their area-weighted centre, with their total area and mean normal.
         const Scene& scene = *rs.scene;
+        std::vector<WhittedLight> by_material(rs.materials.size());
+        std::vector<Vec3> weighted_centre(rs.materials.size()), weighted_normal(rs.materials.size());
         for (uint32_t p = 0; p < scene.primitive_count(); ++p) {
             const SurfaceMaterial& m = rs.material(p);
             if (!m.emissive()) continue;
             const PrimRef ref = scene.locate(p);
-            WhittedLight l;
-            l.radiance = m.emission;
             if (!ref.shape) {
                 const Vec3 a = scene.mesh.vertex(ref.index, 0), b = scene.mesh.vertex(ref.index, 1),
                            c = scene.mesh.vertex(ref.index, 2);
-                l.position = (a + b + c) / 3.0f;
                 const Vec3 cr = cross(b - a, c - a);
-                l.area = 0.5f * length(cr);
-                if (!(l.area > 0.0f)) continue;
-                l.normal = cr / (2.0f * l.area);
+                const float area = 0.5f * length(cr);
+                if (!(area > 0.0f)) continue;
+                const uint32_t id = rs.prim_material[p];
+                by_material[id].radiance = m.emission;
+                by_material[id].area += area;
+                weighted_centre[id] += (a + b + c) * (area / 3.0f);
+                weighted_normal[id] += cr * 0.5f;
             } else if (const auto* s = std::get_if<Sphere>(&scene.shapes[ref.index])) {
+                WhittedLight l;
+                l.radiance = m.emission;
                 l.position = s->center;
                 l.sphere_radius = s->radius;
-            } else {
-                continue;
+                lights_.push_back(l);
             }
+        }
+        for (size_t id = 0; id < by_material.size(); ++id) {
+            WhittedLight& l = by_material[id];
+            if (!(l.area > 0.0f)) continue;
+            l.position = weighted_centre[id] / l.area;
+            const float len = length(weighted_normal[id]);
+            if (!(len > 0.0f)) continue;  // opposite faces cancel: no single emitting side
+            l.normal = weighted_normal[id] / len;
+            l.area = len;  // the projected area along the mean normal
             lights_.push_back(l);
         }
         for (const PointLight& pl : rs.point_lights) lights_.push_back({pl.position, pl.intensity, {}, 0.0f, 0.0f});

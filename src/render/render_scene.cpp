@@ -41,10 +41,14 @@ SpheresScene make_spheres_scene(uint32_t count, uint32_t lights, uint64_t seed) 
         out.prim_material.push_back(uint32_t(out.materials.size() - 1));
         out.scene.add_shape(s);
     };
-    // The ground: one huge sphere whose top touches y = 0.
-    const float ground_r = 1000.0f * std::max(1.0f, half);
-    out.scene.add_shape(Sphere{{0.0f, -ground_r, 0.0f}, ground_r});
-    out.prim_material.push_back(0);
+    // The ground: a square of two triangles a little larger than the field (a huge sphere would
+    // stretch the scene's bounds, and with them every grid's cells, by orders of magnitude).
+    TriangleMesh ground;
+    const float g = half + 6.0f;
+    ground.positions = {{-g, 0.0f, -g}, {-g, 0.0f, g}, {g, 0.0f, g}, {g, 0.0f, -g}};
+    ground.indices = {0, 1, 2, 0, 2, 3};  // wound so that the normal is +y
+    out.scene.add_mesh(ground);
+    out.prim_material = {0, 0};
     for (uint32_t i = 0; i < count; ++i) {
         const float r = 0.15f + 0.25f * rng.uniform();
         const float x = (2.0f * rng.uniform() - 1.0f) * half, z = (2.0f * rng.uniform() - 1.0f) * half;
@@ -58,7 +62,7 @@ SpheresScene make_spheres_scene(uint32_t count, uint32_t lights, uint64_t seed) 
         SurfaceMaterial m = lambert(Vec3{0.0f});
         const float radius = 0.05f * half + 0.2f;
         // Radiance so that each light's power lights the field at a similar level whatever its size.
-        const float L = 4.0f * height * height / (float(lights) * radius * radius);
+        const float L = 1.6f * height * height / (float(lights) * radius * radius);
         m.emission = Vec3{1.0f, 0.9f, 0.75f} * L;
         m.two_sided = true;
         add(Sphere{{ring * std::cos(a), height, ring * std::sin(a)}, radius}, m);

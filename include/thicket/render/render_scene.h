@@ -38,8 +38,9 @@ RenderScene make_render_scene(const Scene& scene);
 /// The Cornell box's standard view: from (0, 1, 3.5) at (0, 1, 0), vertical fov 45 degrees.
 Camera cornell_camera();
 
-/// The lecture's example scene: `count` diffuse spheres of random colour and size scattered over a
-/// ground sphere by `seed`, with `lights` small spherical area lights above them. The same
+/// The lecture's example scene: `count` diffuse spheres of random colour and size scattered by
+/// `seed` over a ground square (two triangles, primitive ids 0 and 1), with `lights` small
+/// spherical area lights above them (the last `lights` shapes). The same
 /// (count, lights, seed) always gives the same scene. Throws Error if count is 0 or lights > 64.
 struct SpheresScene {
     Scene scene;
