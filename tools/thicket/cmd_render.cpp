@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "common.h"
+#include "render_path.h"
 #include "thicket/core/error.h"
 #include "thicket/render/views.h"
 #include "thicket/util/progress.h"
@@ -23,6 +24,7 @@ struct RenderArgs {
     bool no_legend = false;
     std::string output = "render.png";
     unsigned threads = 0;
+    LightRenderArgs light;  // --integrator and its options (render_path.cpp)
 };
 
 void parse_size(const std::string& text, int& width, int& height) {
@@ -49,6 +51,9 @@ int run_render(const RenderArgs& args) {
     RenderOptions options;
     options.view = parse_view(args.view);
     parse_size(args.size, options.width, options.height);
+    if (!args.light.integrator.empty())
+        return run_light_render(args.scene, args.accel, options.width, options.height, args.camera, args.output,
+                                args.threads, args.light);
     options.threads = args.threads;
     options.heat_max = args.heat_max;
     options.legend = !args.no_legend;
@@ -112,6 +117,7 @@ Command add_render_command(CLI::App& app) {
         ->default_str("render.png")
         ->type_name("FILE");
     add_threads_option(cmd, args->threads);
+    add_light_render_options(cmd, args->light);
     return {cmd, [args] { return run_render(*args); }};
 }
 
