@@ -263,7 +263,13 @@ json parse_checked(const std::string& text, const std::string& file) {
 }  // namespace json_scene
 
 Scene load_json_scene(const std::string& path) {
+    std::vector<uint32_t> entry_prims;
+    return load_json_scene(path, entry_prims);
+}
+
+Scene load_json_scene(const std::string& path, std::vector<uint32_t>& entry_prims) {
     using namespace json_scene;
+    entry_prims.clear();
     std::ifstream in(path, std::ios::binary);
     if (!in) throw FileError(path + ": cannot open");
     std::ostringstream text;
@@ -301,6 +307,7 @@ Scene load_json_scene(const std::string& path) {
 
         ShapeFields fields(s, path, i, type, base);
         const size_t shapes_before = scene.shapes.size();
+        entry_prims.push_back(uint32_t(scene.primitive_count()));
         parser->parse(fields, scene);
         fields.finish();
         for (size_t k = shapes_before; k < scene.shapes.size(); ++k) {
@@ -311,6 +318,7 @@ Scene load_json_scene(const std::string& path) {
                                       format_number(b.max[a]) + " on axis " + std::to_string(a) + ")");
         }
     }
+    entry_prims.push_back(uint32_t(scene.primitive_count()));
     return scene;
 }
 
