@@ -9,6 +9,8 @@
 #include "thicket/core/error.h"
 #include "thicket/render/film.h"
 #include "thicket/render/integrator.h"
+#include "thicket/render/lights.h"
+#include "thicket/render/render_json.h"
 #include "thicket/util/progress.h"
 
 namespace thicket::cli {
@@ -84,9 +86,22 @@ int run_light_render(const std::string& scene_name, const AccelChoice& accel_cho
         loaded = load_scene_verbose(scene_name);
         scene = &loaded;
         rs = make_render_scene(loaded);
+        if (ends_with(scene_name, ".json") || ends_with(scene_name, ".JSON"))
+            apply_json_render_settings(scene_name, rs);  // its materials, lights and camera
     }
     const std::unique_ptr<Accel> accel = make_accel_verbose(accel_choice, spec, *scene, threads);
     if (!camera) camera = rs.camera ? *rs.camera : auto_camera(scene->bounds(), float(width) / float(height));
+    if (LightSet(rs).empty()) {
+        // Nothing emits: a point light just above the camera, bright enough that a white
+        // diffuse surface at the scene's distance comes out mid-grey, so that the image shows something.
+        const float d = std::max(1e-3f, length(scene->bounds().center() - camera->position()));
+        PointLight headlight;
+        headlight.position = camera->position() + camera->up() * (0.05f * d);
+        headlight.intensity = Vec3{2.0f * d * d};
+        rs.point_lights.push_back(headlight);
+        std::printf("lights  none in the scene: a point light at the camera (intensity %g)\n",
+                    double(headlight.intensity.x));
+    }
     std::fflush(stdout);
 
     TraceOptions options;
