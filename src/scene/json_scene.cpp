@@ -287,7 +287,13 @@ json parse_checked(const std::string& text, const std::string& file) {
 }  // namespace json_scene
 
 Scene load_json_scene(const std::string& path) {
+    std::vector<uint32_t> entry_prims;
+    return load_json_scene(path, entry_prims);
+}
+
+Scene load_json_scene(const std::string& path, std::vector<uint32_t>& entry_prims) {
     using namespace json_scene;
+    entry_prims.clear();
     const json doc = parse_checked(read_input_file(path, "JSON scene"), path);
 
     if (!doc.is_object()) throw Error(path + ": a JSON scene must be an object with a \"shapes\" array");
@@ -320,6 +326,7 @@ Scene load_json_scene(const std::string& path) {
 
         ShapeFields fields(s, path, i, type, base);
         const size_t shapes_before = scene.shapes.size();
+        entry_prims.push_back(uint32_t(scene.primitive_count()));
         parser->parse(fields, scene);
         fields.finish();
         for (size_t k = shapes_before; k < scene.shapes.size(); ++k) {
@@ -330,6 +337,7 @@ Scene load_json_scene(const std::string& path) {
                                       format_number(b.max[a]) + " on axis " + std::to_string(a) + ")");
         }
     }
+    entry_prims.push_back(uint32_t(scene.primitive_count()));
     return scene;
 }
 

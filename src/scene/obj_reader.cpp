@@ -267,9 +267,10 @@ void parse_mtl(std::string_view text, const std::string& path, std::vector<Mater
             current->name = std::string(t[1]);
             continue;
         }
-        // Colours and exponents Thicket keeps; every other statement (maps, illum, d, ...) is skipped.
+        // Colours, exponents, opacity and the illumination model Thicket keeps (the path tracer maps
+        // them to its materials); every other statement (maps, Ka, Tf, ...) is skipped.
         const bool colour = key == "Kd" || key == "Ks" || key == "Ke";
-        const bool scalar = key == "Ns" || key == "Ni";
+        const bool scalar = key == "Ns" || key == "Ni" || key == "d" || key == "Tr" || key == "illum";
         if (!colour && !scalar) continue;
         if (!current) throw Error(where + std::string(key) + " before any newmtl");
         double v[3] = {};
@@ -285,7 +286,15 @@ void parse_mtl(std::string_view text, const std::string& path, std::vector<Mater
         else if (key == "Ks") current->specular = c;
         else if (key == "Ke") current->emission = c;
         else if (key == "Ns") current->shininess = float(v[0]);
-        else current->ior = float(v[0]);
+        else if (key == "d" || key == "Tr") {
+            if (!(v[0] >= 0.0 && v[0] <= 1.0))
+                throw Error(where + std::string(key) + " " + shown(t[1]) + " is not between 0 and 1");
+            current->dissolve = float(key == "d" ? v[0] : 1.0 - v[0]);  // Tr is 1 - d
+        } else if (key == "illum") {
+            if (!(v[0] >= 0.0 && v[0] <= 10.0 && v[0] == double(int(v[0]))))
+                throw Error(where + "illum " + shown(t[1]) + " is not an illumination model 0..10");
+            current->illum = int(v[0]);
+        } else current->ior = float(v[0]);
     }
 }
 

@@ -28,8 +28,8 @@ const char* quad_obj =
     "g second\nusemtl glow\nf 1/1 2/2 3/3 5/4 4/5\n"
     "vt 0 0\nvt 1 0\nvt 1 1\nvt 0.5 1\nvt 0 1\n";
 const char* quad_mtl =
-    "newmtl red\nKd 0.9 0.1 0.05\nKs 0.5 0.5 0.5\nNs 32\nNi 1.45\n"
-    "newmtl glow\nKd 0.2 0.3 0.4\nKe 17 12 4\n";
+    "newmtl red\nKd 0.9 0.1 0.05\nKs 0.5 0.5 0.5\nNs 32\nNi 1.45\nd 0.25\nillum 7\n"
+    "newmtl glow\nKd 0.2 0.3 0.4\nKe 17 12 4\nTr 0.125\n";
 
 TEST(LoaderObj, QuadsAndPentagonsWithMaterials) {
     TempDir tmp;
@@ -44,11 +44,32 @@ TEST(LoaderObj, QuadsAndPentagonsWithMaterials) {
     EXPECT_EQ(m.materials[0].specular, Vec3(0.5f, 0.5f, 0.5f));
     EXPECT_FLOAT_EQ(m.materials[0].shininess, 32.0f);
     EXPECT_FLOAT_EQ(m.materials[0].ior, 1.45f);
+    EXPECT_FLOAT_EQ(m.materials[0].dissolve, 0.25f);
+    EXPECT_EQ(m.materials[0].illum, 7);
     EXPECT_EQ(m.materials[1].name, "glow");
     EXPECT_EQ(m.materials[1].emission, Vec3(17, 12, 4));
+    EXPECT_FLOAT_EQ(m.materials[1].dissolve, 0.875f);  // Tr is 1 - d
+    EXPECT_EQ(m.materials[1].illum, -1);
     EXPECT_EQ(m.materials[2].name, "default");
     const std::vector<uint32_t> ids = {2, 0, 0, 1, 1, 1};
     EXPECT_EQ(m.material_ids, ids);
+}
+
+TEST(LoaderObj, MtlOpacityAndIlluminationModelAreChecked) {
+    for (const auto& [mtl, needle] : std::vector<std::pair<std::string, std::string>>{
+             {"newmtl a\nd 1.5\n", "d '1.5' is not between 0 and 1"},
+             {"newmtl a\nillum 2.5\n", "illum '2.5' is not an illumination model"},
+             {"newmtl a\nillum 11\n", "illum '11'"}}) {
+        TempDir tmp;
+        tmp.file("quads.mtl", mtl);
+        try {
+            load_obj(tmp.file("quads.obj", quad_obj));
+            ADD_FAILURE() << "accepted " << mtl;
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("quads.mtl: line 2"), std::string::npos) << e.what();
+        }
+    }
 }
 
 TEST(LoaderObj, MissingMtlIsOnlyAWarning) {

@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "common.h"
+#include "render_path.h"
 #include "thicket/core/error.h"
 #include "thicket/render/views.h"
 #include "thicket/util/progress.h"
@@ -25,6 +26,7 @@ struct RenderArgs {
     std::string output = "render.png";
     bool force = false;
     unsigned threads = 0;
+    LightRenderArgs light;  // --integrator and its options (render_path.cpp)
 };
 
 std::string vec_text(Vec3 v) {
@@ -38,6 +40,11 @@ int run_render(const RenderArgs& args) {
     RenderOptions options;
     options.view = parse_view(args.view);
     parse_image_size(args.size, options.width, options.height);
+    if (!args.light.integrator.empty()) {
+        const std::string output = prepare_output(args.output, args.force, {args.scene, args.accel.load});
+        return run_light_render(args.scene, args.accel, options.width, options.height, args.camera, output,
+                                args.threads, args.light);
+    }
     options.threads = args.threads;
     options.heat_max = args.heat_max;
     options.legend = !args.no_legend;
@@ -113,6 +120,7 @@ Command add_render_command(CLI::App& app) {
         ->type_name("FILE");
     cmd->add_flag("-f,--force", args->force, kForceHelp);
     add_threads_option(cmd, args->threads);
+    add_light_render_options(cmd, args->light);
     return {cmd, [args] { return run_render(*args); }};
 }
 

@@ -15,6 +15,8 @@ struct Material {
     Vec3 emission{0.0f, 0.0f, 0.0f};
     float shininess = 0.0f;
     float ior = 1.0f;
+    float dissolve = 1.0f;  ///< MTL `d`: 1 opaque, below 1 (partly) transparent
+    int illum = -1;         ///< MTL `illum` model number; -1 when the file gives none
 };
 
 struct TriangleMesh {

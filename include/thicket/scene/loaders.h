@@ -21,6 +21,10 @@ TriangleMesh builtin_cornell_box();
 TriangleMesh load_mesh(const std::string& path);
 /// A JSON scene of meshes and shapes (docs/shapes.md); errors name the shape and field.
 Scene load_json_scene(const std::string& path);
+/// The same, also giving where each entry of the file's `shapes` array went: entry i made
+/// primitive ids [entry_prims[i], entry_prims[i + 1]) (one more value than entries), so that the
+/// renderer can give it its `material`.
+Scene load_json_scene(const std::string& path, std::vector<uint32_t>& entry_prims);
 
 /// Reads the polygons of a Wavefront OBJ or a PLY file (by extension) as a subdivision cage (no
 /// triangulation; normals, texture coordinates and materials are ignored) and validates it.

@@ -1,0 +1,17 @@
+#pragma once
+/// From linear radiance to an image file: sRGB tone mapping to 8 bits for PNG.
+#include <vector>
+
+#include "thicket/core/vec3.h"
+#include "thicket/render/image.h"
+
+namespace thicket {
+
+/// The sRGB transfer curve (IEC 61966-2-1) of a linear value in [0, 1] (clamped; NaN gives 0).
+float srgb_encode(float linear);
+
+/// Linear radiance (row 0 at the top, width x height values) scaled by `exposure`, clamped to
+/// [0, 1] and sRGB-encoded to 8 bits. Throws Error if the sizes disagree.
+Image tonemap_srgb(const std::vector<Vec3>& radiance, int width, int height, float exposure = 1.0f);
+
+}  // namespace thicket

@@ -1,0 +1,30 @@
+#include "thicket/render/film.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "thicket/core/error.h"
+
+namespace thicket {
+
+float srgb_encode(float x) {
+    if (!(x > 0.0f)) return 0.0f;
+    if (x >= 1.0f) return 1.0f;
+    return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.0f / 2.4f) - 0.055f;
+}
+
+Image tonemap_srgb(const std::vector<Vec3>& radiance, int width, int height, float exposure) {
+    if (width < 1 || height < 1 || radiance.size() != size_t(width) * size_t(height))
+        throw Error("tonemap: " + std::to_string(radiance.size()) + " pixels for a " + std::to_string(width) + "x" +
+                    std::to_string(height) + " image");
+    Image image(width, height);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const Vec3 c = radiance[size_t(y) * size_t(width) + size_t(x)] * exposure;
+            image.at(x, y) = to_rgb8({srgb_encode(c.x), srgb_encode(c.y), srgb_encode(c.z)});
+        }
+    return image;
+}
+
+}  // namespace thicket

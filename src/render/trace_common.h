@@ -1,0 +1,104 @@
+#pragma once
+// Pieces both integrators share (private to src/render): the fixed tiling, ray offsets, and the
+// per-pixel sums that make an image independent of thread scheduling.
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "thicket/core/error.h"
+#include "thicket/render/integrator.h"
+#include "thicket/render/sampling.h"
+
+namespace thicket {
+
+/// Tiles are kTraceTile x kTraceTile pixels whatever the thread count.
+inline constexpr int kTraceTile = 16;
+/// Paths per wave of the path tracer: a tile's samples go in waves of about this many paths.
+inline constexpr uint32_t kTraceWave = 4096;
+
+/// The image indices of tile `tile` (row-major over tiles_x tiles per row), in 4x4 blocks so that
+/// each 16 consecutive camera rays are neighbours (bvh8's packets).
+inline void tile_pixels(size_t tile, int tiles_x, int W, int H, std::vector<uint32_t>& out) {
+    constexpr int kBlock = 4;
+    out.clear();
+    const int x0 = int(tile % size_t(tiles_x)) * kTraceTile, y0 = int(tile / size_t(tiles_x)) * kTraceTile;
+    for (int by = y0; by < std::min(H, y0 + kTraceTile); by += kBlock)
+        for (int bx = x0; bx < std::min(W, x0 + kTraceTile); bx += kBlock)
+            for (int y = by; y < std::min(H, by + kBlock); ++y)
+                for (int x = bx; x < std::min(W, bx + kBlock); ++x) out.push_back(uint32_t(y * W + x));
+}
+
+/// Offset that keeps a ray leaving point p off the surface it leaves: relative to p's magnitude.
+inline float ray_epsilon(Vec3 p) { return 2e-4f * std::max(1.0f, max_component(abs(p))); }
+
+/// A ray leaving surface point p (geometric normal n, either orientation) in direction dir.
+inline Ray spawn_ray(Vec3 p, Vec3 n, Vec3 dir) {
+    const Vec3 side = dot(dir, n) >= 0.0f ? n : -n;
+    Ray r;
+    r.org = p + side * ray_epsilon(p);
+    r.dir = dir;
+    r.tmin = 0.0f;
+    r.tmax = kInfinity;
+    return r;
+}
+
+/// A shadow ray from p toward a light point `distance` away along unit `dir`, stopping short of it.
+inline Ray shadow_ray(Vec3 p, Vec3 n, Vec3 dir, float distance) {
+    Ray r = spawn_ray(p, n, dir);
+    r.tmax = std::max(0.0f, distance * (1.0f - 1e-4f) - 2.0f * ray_epsilon(p));
+    return r;
+}
+
+/// Validates the options and sets up an empty result.
+inline TraceResult begin_trace(const RenderScene& rs, const TraceOptions& o) {
+    if (!rs.scene) throw Error("render: no scene");
+    if (rs.prim_material.size() != rs.scene->primitive_count())
+        throw Error("render: the scene has " + std::to_string(rs.scene->primitive_count()) + " primitives but " +
+                    std::to_string(rs.prim_material.size()) + " material assignments");
+    for (uint32_t id : rs.prim_material)
+        if (id >= rs.materials.size()) throw Error("render: material index " + std::to_string(id) + " out of range");
+    constexpr int kMaxSide = 32768;
+    if (o.width < 1 || o.height < 1 || o.width > kMaxSide || o.height > kMaxSide)
+        throw Error("render: image size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
+                    " is not within 1x1 to 32768x32768");
+    if (o.spp < 1) throw Error("render: --spp must be at least 1");
+    if (o.max_depth < 1) throw Error("render: the maximum path depth must be at least 1");
+    TraceResult r;
+    r.width = o.width;
+    r.height = o.height;
+    r.spp = o.spp;
+    const size_t pixels = size_t(o.width) * size_t(o.height);
+    r.sum.assign(3 * pixels, 0.0);
+    if (o.variance) r.lum_sum2.assign(pixels, 0.0);
+    return r;
+}
+
+/// Adds one sample's radiance to pixel `pix` (NaN and infinite samples count as black).
+inline void add_sample(TraceResult& r, uint32_t pix, Vec3 L, bool variance) {
+    if (!(std::isfinite(L.x) && std::isfinite(L.y) && std::isfinite(L.z))) L = Vec3{};
+    r.sum[3 * size_t(pix)] += L.x;
+    r.sum[3 * size_t(pix) + 1] += L.y;
+    r.sum[3 * size_t(pix) + 2] += L.z;
+    if (variance) {
+        const double l = luminance(L);
+        r.lum_sum2[pix] += l * l;
+    }
+}
+
+/// Means and variances from the sums.
+inline void finish_trace(TraceResult& r) {
+    const size_t pixels = size_t(r.width) * size_t(r.height);
+    r.radiance.resize(pixels);
+    const double n = r.spp;
+    for (size_t i = 0; i < pixels; ++i)
+        r.radiance[i] = Vec3{float(r.sum[3 * i] / n), float(r.sum[3 * i + 1] / n), float(r.sum[3 * i + 2] / n)};
+    if (r.lum_sum2.empty()) return;
+    r.lum_variance.assign(pixels, 0.0f);
+    if (r.spp < 2) return;
+    for (size_t i = 0; i < pixels; ++i) {
+        const double mean = 0.2126 * r.sum[3 * i] / n + 0.7152 * r.sum[3 * i + 1] / n + 0.0722 * r.sum[3 * i + 2] / n;
+        r.lum_variance[i] = float(std::max(0.0, (r.lum_sum2[i] - n * mean * mean) / (n - 1.0)));
+    }
+}
+
+}  // namespace thicket
