@@ -113,6 +113,9 @@ void drop_triangles(Cleaned& c, const std::vector<int>& drop, std::vector<uint32
     c = std::move(kept);
 }
 
+/// Adds one sentence to the report's outcome.
+void note(TetraReport& r, const std::string& text) { r.outcome += (r.outcome.empty() ? "" : "; ") + text; }
+
 /// The mesh from TetGen's output: tetrahedra made positive, constrained faces' triangles per
 /// vertex, triangles whose faces do not cover them moved to `fallback`.
 void assemble(const TetgenResult& r, const Cleaned& c, const TetraInput& input, TetraData& data) {
@@ -154,6 +157,9 @@ void assemble(const TetgenResult& r, const Cleaned& c, const TetraInput& input, 
         meshed[t] = std::fabs(covered[t] - area) <= 1e-6 * area;
         if (!meshed[t]) data.fallback.push_back(c.prims[t]);
     }
+    const size_t uncovered = size_t(std::count(meshed.begin(), meshed.end(), 0));
+    if (uncovered > 0)
+        note(data.report, std::to_string(uncovered) + " triangle(s) not covered by their constrained faces set aside");
     std::sort(at.begin(), at.end());
     at.erase(std::unique(at.begin(), at.end()), at.end());
     m.vertex_offsets.assign(m.points.size() + 1, 0);
@@ -193,12 +199,12 @@ TetraData build_tetra(const TetraInput& input, const TetraBuildOptions& options)
     D3 lo, hi;
     Cleaned c = clean(input, data.fallback, lo, hi);
     if (c.prims.size() > options.max_triangles) {
-        data.report.outcome = std::to_string(c.prims.size()) + " triangles to mesh, over max-triangles=" +
-                              std::to_string(options.max_triangles);
+        note(data.report, std::to_string(c.prims.size()) + " triangles to mesh, over max-triangles=" +
+                              std::to_string(options.max_triangles) + ": all in the fallback bvh");
         for (uint32_t p : c.prims) data.fallback.push_back(p);
         c.prims.clear();
     } else if (data.fallback.size() > 0) {
-        data.report.outcome = std::to_string(data.fallback.size()) + " primitive(s) not triangles, degenerate or repeated";
+        note(data.report, std::to_string(data.fallback.size()) + " primitive(s) not triangles, degenerate or repeated");
     }
     if (!c.prims.empty()) {
         const std::string switches = std::string("pMQnz") + (options.preserve_surface ? "Y" : "");
@@ -214,8 +220,8 @@ TetraData build_tetra(const TetraInput& input, const TetraBuildOptions& options)
             if (detect.ok && !detect.out.face_markers.empty()) {
                 const size_t before = data.fallback.size();
                 drop_triangles(c, detect.out.face_markers, data.fallback);
-                data.report.outcome = first + ": " + std::to_string(data.fallback.size() - before) +
-                                      " intersecting triangle(s) set aside";
+                note(data.report, first + ": " + std::to_string(data.fallback.size() - before) +
+                                      " intersecting triangle(s) set aside (TetGen -d)");
                 if (!c.prims.empty()) {
                     r = tetra_detail::run_tetgen(c.in, switches, options.time_limit_s, options.memory_limit_mb);
                     data.report.tetgen_runs = 3;
@@ -229,7 +235,8 @@ TetraData build_tetra(const TetraInput& input, const TetraBuildOptions& options)
             assemble(r, c, input, data);
             index_starts(data.mesh);
         } else {
-            data.report.outcome = r.failure + ": nothing meshed";
+            note(data.report, r.failure + ": nothing meshed, all " + std::to_string(c.prims.size()) +
+                                  " triangles in the fallback bvh");
             for (uint32_t p : c.prims) data.fallback.push_back(p);
         }
     }

@@ -153,7 +153,7 @@ AccelStats Tetra<Prims>::stats() const {
     s.extra.emplace_back("fallback primitives", std::to_string(data_.fallback.size()) + " (in a bvh)");
     std::snprintf(text, sizeof text, "%.1f ms in %u run(s)", r.tetgen_ms, r.tetgen_runs);
     s.extra.emplace_back("TetGen", text);
-    if (!r.outcome.empty()) s.extra.emplace_back("not meshed because", r.outcome);
+    if (!r.outcome.empty()) s.extra.emplace_back(kLimitedKey, r.outcome);
     return s;
 }
 
