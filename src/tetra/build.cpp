@@ -160,6 +160,26 @@ void assemble(const TetgenResult& r, const Cleaned& c, const TetraInput& input, 
     const size_t uncovered = size_t(std::count(meshed.begin(), meshed.end(), 0));
     if (uncovered > 0)
         note(data.report, std::to_string(uncovered) + " triangle(s) not covered by their constrained faces set aside");
+    // Each tetrahedron face's triangle, looked up by the face's sorted vertex ids.
+    std::unordered_map<std::array<uint32_t, 3>, uint32_t, BitsHash> face_of;
+    for (size_t f = 0; f < o.face_markers.size(); ++f) {
+        const int marker = o.face_markers[f];
+        if (marker < 1 || size_t(marker) > c.prims.size() || !meshed[size_t(marker) - 1]) continue;
+        std::array<uint32_t, 3> key{uint32_t(o.faces[3 * f]), uint32_t(o.faces[3 * f + 1]), uint32_t(o.faces[3 * f + 2])};
+        std::sort(key.begin(), key.end());
+        face_of[key] = c.prims[size_t(marker) - 1];
+    }
+    m.face_tris.assign(tets * 4, kNoTet);
+    for (size_t t = 0; t < tets && !face_of.empty(); ++t)
+        for (int k = 0; k < 4; ++k) {
+            std::array<uint32_t, 3> key;
+            int j = 0;
+            for (int i = 0; i < 4; ++i)
+                if (i != k) key[j++] = m.tets[4 * t + i];
+            std::sort(key.begin(), key.end());
+            const auto it = face_of.find(key);
+            if (it != face_of.end()) m.face_tris[4 * t + k] = it->second;
+        }
     std::sort(at.begin(), at.end());
     at.erase(std::unique(at.begin(), at.end()), at.end());
     m.vertex_offsets.assign(m.points.size() + 1, 0);
@@ -234,7 +254,7 @@ TetraData build_tetra(const TetraInput& input, const TetraBuildOptions& options)
             data.mesh.box_max = hi;
             assemble(r, c, input, data);
             index_starts(data.mesh);
-        } else {
+        } else if (!c.prims.empty()) {
             note(data.report, r.failure + ": nothing meshed, all " + std::to_string(c.prims.size()) +
                                   " triangles in the fallback bvh");
             for (uint32_t p : c.prims) data.fallback.push_back(p);

@@ -49,6 +49,7 @@ void write_tetra(std::ostream& out, const TetraData& data) {
     write_vector(out, m.points);
     write_vector(out, m.tets);
     write_vector(out, m.neighbors);
+    write_vector(out, m.face_tris);
     write_vector(out, m.vertex_offsets);
     write_vector(out, m.vertex_tris);
     write_value(out, m.box_min);
@@ -73,6 +74,7 @@ TetraData read_tetra(std::istream& in, size_t primitive_count) {
     read_vector(in, reader, m.points, "points");
     read_vector(in, reader, m.tets, "tetrahedra");
     read_vector(in, reader, m.neighbors, "neighbours");
+    read_vector(in, reader, m.face_tris, "face triangles");
     read_vector(in, reader, m.vertex_offsets, "vertex offsets");
     read_vector(in, reader, m.vertex_tris, "vertex triangles");
     reader.value(m.box_min, "box");

@@ -20,8 +20,8 @@ bool finite(const D3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && st
 void validate_tetra(const TetraData& data, size_t primitive_count) {
     const TetraMesh& m = data.mesh;
     const size_t points = m.points.size(), tets = m.tets.size() / 4;
-    if (m.tets.size() % 4 != 0 || m.neighbors.size() != m.tets.size())
-        invalid("tetrahedra and neighbours are not 4 per tetrahedron");
+    if (m.tets.size() % 4 != 0 || m.neighbors.size() != m.tets.size() || m.face_tris.size() != m.tets.size())
+        invalid("tetrahedra, neighbours and face triangles are not 4 per tetrahedron");
     for (const D3& p : m.points)
         if (!finite(p)) invalid("a vertex is not finite");
     for (uint32_t v : m.tets)
@@ -47,6 +47,8 @@ void validate_tetra(const TetraData& data, size_t primitive_count) {
             m.box_min.z > m.box_max.z)
             invalid("box not finite or inverted");
     }
+    for (uint32_t p : m.face_tris)
+        if (p != kNoTet && p >= primitive_count) invalid("face triangle id " + std::to_string(p));
     for (uint32_t p : m.vertex_tris)
         if (p >= primitive_count) invalid("triangle id " + std::to_string(p) + " of " + std::to_string(primitive_count));
     std::vector<uint8_t> covered(primitive_count, 0);
@@ -60,6 +62,8 @@ void validate_tetra(const TetraData& data, size_t primitive_count) {
         if (covered[p] == 1) invalid("primitive " + std::to_string(p) + " both meshed and in the fallback");
         covered[p] = 2;
     }
+    for (uint32_t p : m.face_tris)
+        if (p != kNoTet && covered[p] != 2) invalid("face triangle " + std::to_string(p) + " not meshed");
     for (size_t p = 0; p < primitive_count; ++p)
         if (!covered[p]) invalid("primitive " + std::to_string(p) + " neither meshed nor in the fallback");
     validate_bvh(data.fallback_bvh, data.fallback.size());

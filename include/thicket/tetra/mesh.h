@@ -30,6 +30,7 @@ struct TetraMesh {
     std::vector<D3> points;           ///< TetGen's output vertices (input, box corners, Steiner points)
     std::vector<uint32_t> tets;       ///< 4 vertex ids per tetrahedron; face k is opposite vertex k
     std::vector<uint32_t> neighbors;  ///< 4 per tetrahedron: the one across face k, kNoTet on the hull
+    std::vector<uint32_t> face_tris;  ///< 4 per tetrahedron: the scene triangle face k is part of, or kNoTet
     /// Scene triangles at each vertex: those of vertex v are tris[offsets[v] .. offsets[v+1]).
     std::vector<uint32_t> vertex_offsets, vertex_tris;
     D3 box_min, box_max;              ///< the box the tetrahedra fill
@@ -38,7 +39,7 @@ struct TetraMesh {
 
     size_t tet_count() const { return tets.size() / 4; }
     size_t bytes() const {
-        return points.size() * sizeof(D3) + (tets.size() + neighbors.size() + vertex_offsets.size() +
+        return points.size() * sizeof(D3) + (tets.size() + neighbors.size() + face_tris.size() + vertex_offsets.size() +
                                              vertex_tris.size() + grid_start.size()) * sizeof(uint32_t);
     }
 };
