@@ -8,6 +8,7 @@ namespace {
 
 constexpr Choice<ObbFit> kFits[] = {{"pca", ObbFit::Pca}, {"axes", ObbFit::Axes}};
 
+/// The build options a parsed spec asks for.
 ObbBuildOptions build_options(const AccelSpec& spec) {
     ObbBuildOptions o;
     o.bvh.builder = spec.choice("builder", kBvhBuilders);

@@ -25,6 +25,7 @@ using tetra_detail::TetgenResult;
 
 D3 d3(Vec3 v) { return {v.x, v.y, v.z}; }
 
+/// Hash of three 32-bit words (a vertex's coordinate bits, a face's sorted vertex ids).
 struct BitsHash {
     size_t operator()(const std::array<uint32_t, 3>& k) const {
         return (size_t(k[0]) * 0x9E3779B97F4A7C15ull) ^ (size_t(k[1]) * 0xC2B2AE3D27D4EB4Full) ^ (size_t(k[2]) + 0x165667B19E3779F9ull);

@@ -7,6 +7,7 @@ namespace {
 
 constexpr Choice<bool> kSurface[] = {{"refine", false}, {"preserve", true}};
 
+/// The build options a parsed spec asks for.
 TetraBuildOptions build_options(const AccelSpec& spec) {
     TetraBuildOptions o;
     o.time_limit_s = double(spec.get_int("time-limit"));

@@ -46,6 +46,7 @@ bool get(const std::string& buf, size_t& pos, std::vector<T>& out) {
     return true;
 }
 
+/// Makes `f` one polygon of the n vertex ids `ids` (TetGen frees it with the tetgenio).
 void init_facet(tetgenio::facet& f, const int* ids, int n) {
     tetgenio::init(&f);
     f.numberofpolygons = 1;
@@ -96,6 +97,7 @@ std::string child_run(const TetgenInput& in, const std::string& switches) {
     return buf;
 }
 
+/// What TetGen's thrown code means (terminatetetgen's codes in tetgen.h).
 std::string code_text(int code) {
     switch (code) {
     case 1: return "TetGen ran out of memory";

@@ -15,6 +15,7 @@ namespace thicket {
 
 namespace {
 
+/// Writes v's length, then its elements as they are in memory.
 template <class T>
 void write_vector(std::ostream& out, const std::vector<T>& v) {
     write_value(out, uint64_t(v.size()));
@@ -31,6 +32,7 @@ size_t bytes_left(std::istream& in) {
     return end < here ? 0 : size_t(end - here);
 }
 
+/// Reads what write_vector() wrote, refusing a length the remaining bytes cannot hold.
 template <class T>
 void read_vector(std::istream& in, PayloadReader& reader, std::vector<T>& v, const char* what) {
     uint64_t n = 0;
