@@ -20,6 +20,8 @@ set(named_layers core util geometry prims scene accel render bench)
 # A structure built from another declares it here (uses_<folder>): a wide BVH collapses the
 # binary one. Any other structure-to-structure include is a violation.
 set(uses_bvh8 bvh)
+set(uses_obb bvh)     # an OBB tree refits a BVH's topology
+set(uses_tetra bvh)   # the tetrahedralization keeps what TetGen refuses in a BVH
 
 # The one crossing the ladder allows: a subdivision surface keeps a BVH over its own patches.
 set(exception_files "src/prims/subdivision.cpp:bvh")

@@ -19,6 +19,8 @@ void register_bsp(std::vector<AccelInfo>& registry);
 void register_kdtree(std::vector<AccelInfo>& registry);
 void register_bih(std::vector<AccelInfo>& registry);
 void register_bvh8(std::vector<AccelInfo>& registry);
+void register_obb(std::vector<AccelInfo>& registry);
+void register_tetra(std::vector<AccelInfo>& registry);
 
 namespace {
 
@@ -39,6 +41,8 @@ std::vector<AccelInfo> make_registry() {
     register_kdtree(r);
     register_bih(r);
     register_bvh8(r);
+    register_obb(r);
+    register_tetra(r);
     for (AccelInfo& info : r) info.options.push_back(triangle_test_option());
     return r;
 }

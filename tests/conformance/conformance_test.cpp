@@ -104,6 +104,10 @@ protected:
         SCOPED_TRACE("scene " + scene.name);
         const Reference& ref = reference_for(key, scene, isect(), rays, brute_rays);
         std::unique_ptr<Accel> accel = build_accel(GetParam(), scene);
+        const AccelStats stats = accel->stats();
+        for (const auto& [key, value] : stats.extra)
+            if (key == kLimitedKey)
+                std::printf("[ limited  ] %s, %s: %s\n", scene.name.c_str(), accel->spec().c_str(), value.c_str());
         const std::string mismatch = compare_with_reference(*accel, ref, scene.name);
         EXPECT_EQ(mismatch, "");
         check_bounds(*accel, scene);

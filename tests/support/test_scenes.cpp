@@ -270,6 +270,31 @@ std::vector<Scene> nasty_scenes() {
     scenes.push_back(make("huge", random_soup(500, Vec3(1e7f), Vec3(1.5e7f), 2e5f, 21)));
     scenes.push_back(make("tiny", random_soup(500, Vec3(-1e-7f), Vec3(1e-7f), 2e-8f, 22)));
     scenes.push_back(make("closed-cube", closed_cube(6)));
+    {
+        // Long thin sticks (triangular prisms) across the box's diagonals, many of them parallel:
+        // every stick's axis-aligned box is nearly the whole scene, its oriented box a sliver.
+        TriangleMesh m;
+        std::mt19937 rng(17);
+        const Vec3 diagonals[4] = {{1, 1, 1}, {1, 1, -1}, {1, -1, 1}, {-1, 1, 1}};
+        for (int i = 0; i < 120; ++i) {
+            const Vec3 d = normalize(diagonals[i % 4] + random_point(rng, Vec3(-0.02f), Vec3(0.02f)));
+            const Vec3 c = random_point(rng, Vec3(-0.3f), Vec3(0.3f));
+            const Vec3 a = c - d * 0.8f, b = c + d * 0.8f;
+            // A random ring orientation: with a world axis here, one face of every stick would be
+            // exactly parallel to the axis-parallel rays, whose triangle tests then report
+            // ill-conditioned hits anywhere in the triangle's box (see docs/obb.md).
+            const Vec3 u = normalize(cross(d, normalize(random_point(rng, Vec3(-1), Vec3(1)) + Vec3(0.01f, 0, 0))));
+            const Vec3 w = cross(d, u);
+            const float r = 0.004f;
+            const Vec3 ring[3] = {u * r, (w * 0.866f - u * 0.5f) * r, (w * -0.866f - u * 0.5f) * r};
+            for (int k = 0; k < 3; ++k) {
+                const Vec3 p = ring[k], q = ring[(k + 1) % 3];
+                add_triangle(m, a + p, b + p, b + q);
+                add_triangle(m, a + p, b + q, a + q);
+            }
+        }
+        scenes.push_back(make("thin-diagonal", std::move(m)));
+    }
     scenes.push_back(mixed_scene());
     scenes.push_back(make("soup", random_soup(2000, {-1, -1, -1}, {1, 1, 1}, 0.1f, 23)));
     return scenes;

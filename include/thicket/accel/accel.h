@@ -25,6 +25,11 @@ namespace thicket {
 /// why; the conformance suite requires it whenever sah_cost is 0 for a scene with primitives.
 inline constexpr const char* kSahUndefinedKey = "SAH cost undefined";
 
+/// The AccelStats::extra key under which a structure that could not take the scene the way it is
+/// designed to (a tetrahedralization refused, a size limit reached) says why and what it did
+/// instead; the conformance suite prints it next to the scene.
+inline constexpr const char* kLimitedKey = "limited because";
+
 struct AccelStats {
     std::string spec;          ///< canonical spec string of the structure
     size_t primitives = 0;

@@ -10,6 +10,7 @@
 /// plus one), the index within its array below.
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -86,6 +87,13 @@ public:
         const uint32_t r = refs_[i];
         if ((r >> kKindShift) == 0) return tris_.centroid(r);
         return bounds(i).center();
+    }
+    /// The vertices of primitive i when it is a triangle, else nothing (structures that take
+    /// only triangles, such as the tetrahedralization, leave the shapes to another structure).
+    std::optional<std::array<Vec3, 3>> triangle_of(uint32_t i) const {
+        const uint32_t r = refs_[i];
+        if ((r >> kKindShift) != 0) return std::nullopt;
+        return tris_.triangle(r);
     }
     /// Exact bounds of a triangle's part inside `box`; a shape's bounds clipped to it.
     Aabb clip(uint32_t i, const Aabb& box) const {
