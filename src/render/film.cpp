@@ -4,7 +4,10 @@
 #include <cmath>
 #include <string>
 
+#include <tinyexr.h>
+
 #include "thicket/core/error.h"
+#include "thicket/util/atomic_file.h"
 
 namespace thicket {
 
@@ -25,6 +28,27 @@ Image tonemap_srgb(const std::vector<Vec3>& radiance, int width, int height, flo
             image.at(x, y) = to_rgb8({srgb_encode(c.x), srgb_encode(c.y), srgb_encode(c.z)});
         }
     return image;
+}
+
+void write_exr(const std::vector<Vec3>& radiance, int width, int height, const std::string& path, float exposure) {
+    if (width < 1 || height < 1 || radiance.size() != size_t(width) * size_t(height))
+        throw Error(path + ": " + std::to_string(radiance.size()) + " pixels for a " + std::to_string(width) + "x" +
+                    std::to_string(height) + " image");
+    std::vector<float> rgb(radiance.size() * 3);
+    for (size_t i = 0; i < radiance.size(); ++i) {
+        const Vec3 c = radiance[i] * exposure;
+        rgb[3 * i] = c.x;
+        rgb[3 * i + 1] = c.y;
+        rgb[3 * i + 2] = c.z;
+    }
+    write_atomically(path, [&](const std::string& temp) {
+        const char* err = nullptr;
+        if (SaveEXR(rgb.data(), width, height, 3, /*save_as_fp16=*/0, temp.c_str(), &err) < 0) {
+            const std::string reason = err ? err : "unknown tinyexr error";
+            if (err) FreeEXRErrorMessage(err);
+            throw FileError(path + ": cannot write the EXR image: " + reason);
+        }
+    });
 }
 
 }  // namespace thicket

@@ -1,5 +1,7 @@
 #pragma once
-/// From linear radiance to an image file: sRGB tone mapping to 8 bits for PNG.
+/// From linear radiance to an image file: sRGB tone mapping to 8 bits for PNG, or linear float
+/// OpenEXR.
+#include <string>
 #include <vector>
 
 #include "thicket/core/vec3.h"
@@ -13,5 +15,12 @@ float srgb_encode(float linear);
 /// Linear radiance (row 0 at the top, width x height values) scaled by `exposure`, clamped to
 /// [0, 1] and sRGB-encoded to 8 bits. Throws Error if the sizes disagree.
 Image tonemap_srgb(const std::vector<Vec3>& radiance, int width, int height, float exposure = 1.0f);
+
+/// Writes linear radiance (row 0 at the top) scaled by `exposure` to `path` as OpenEXR: 32-bit
+/// float R, G, B channels, ZIP-compressed, no tone mapping (tinyexr). Atomic like every output:
+/// the file appears whole or not at all. Throws Error naming `path` if the sizes disagree or
+/// the file cannot be written.
+void write_exr(const std::vector<Vec3>& radiance, int width, int height, const std::string& path,
+               float exposure = 1.0f);
 
 }  // namespace thicket
