@@ -4,6 +4,7 @@
 //
 // Debian's libtinygltf.so already contains the implementation (and stb_image), so this file
 // must not define TINYGLTF_IMPLEMENTATION.
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
@@ -110,6 +111,30 @@ private:
         if (auto it = m.extensions.find("KHR_materials_ior"); it != m.extensions.end())
             if (it->second.Has("ior") && it->second.Get("ior").IsNumber())
                 out.ior = float(it->second.Get("ior").GetNumberAsDouble());
+        // Metallic-roughness, to the nearest of the path tracer's materials (docs/rendering.md): the
+        // metallic share of the base colour becomes the specular colour, roughness a Phong exponent
+        // (alpha = roughness^2, n = 2 / alpha^2 - 2: rough is broad, smooth a mirror), and
+        // KHR_materials_transmission glass (glTF's ior is 1.5 unless KHR_materials_ior says).
+        // glTF's defaults (metallic 1, roughness 1) apply when the factors are absent.
+        const auto& pbr = m.pbrMetallicRoughness;
+        const float metallic = std::clamp(float(pbr.metallicFactor), 0.0f, 1.0f);
+        const float roughness = std::clamp(float(pbr.roughnessFactor), 0.0f, 1.0f);
+        if (metallic > 0.0f) {
+            const Vec3 base = out.diffuse;
+            out.diffuse = base * (1.0f - metallic);
+            out.specular = base * metallic;
+            const float alpha = std::max(roughness * roughness, 1e-3f);
+            out.shininess = 2.0f / (alpha * alpha) - 2.0f;
+        }
+        if (auto it = m.extensions.find("KHR_materials_transmission"); it != m.extensions.end())
+            if (it->second.Has("transmissionFactor") && it->second.Get("transmissionFactor").IsNumber()) {
+                const double t = it->second.Get("transmissionFactor").GetNumberAsDouble();
+                if (!(t >= 0.0 && t <= 1.0))
+                    fail("material " + std::to_string(index) + ": transmissionFactor " + std::to_string(t) +
+                         " is not between 0 and 1");
+                out.dissolve = float(1.0 - t);
+                if (t > 0.0 && out.ior == 1.0f) out.ior = 1.5f;
+            }
         return out;
     }
 

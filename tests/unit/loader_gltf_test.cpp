@@ -12,6 +12,7 @@
 
 #include "loader_test_util.h"
 #include "thicket/core/error.h"
+#include "thicket/render/bsdf.h"
 #include "thicket/scene/loaders.h"
 #include "thicket/scene/scene.h"
 
@@ -60,7 +61,7 @@ std::string gltf_json(const std::string& buffer_uri, size_t length) {
              {"primitives": [{"attributes": {"POSITION": 2}, "mode": 5},
                              {"attributes": {"POSITION": 2}, "mode": 6, "material": 1},
                              {"attributes": {"POSITION": 2}, "mode": 1}]}],
-  "materials": [{"name": "orange", "pbrMetallicRoughness": {"baseColorFactor": [1, 0.5, 0.25, 1]},
+  "materials": [{"name": "orange", "pbrMetallicRoughness": {"baseColorFactor": [1, 0.5, 0.25, 1], "metallicFactor": 0},
                  "emissiveFactor": [2, 3, 4]},
                 {"emissiveFactor": [1, 1, 1],
                  "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 5}}}],
@@ -119,6 +120,51 @@ void expect_gltf_scene(const TriangleMesh& m) {
     EXPECT_EQ(m.materials[2].name, "default");
     const std::vector<uint32_t> ids = {0, 2, 2, 1, 1};
     EXPECT_EQ(m.material_ids, ids);
+}
+
+// glTF's metallic-roughness materials, mapped to the nearest of the path tracer's: a rough metal
+// is glossy with its base colour as the specular colour, a smooth one a mirror, transmission glass
+// (ior 1.5 by glTF's default), a non-metal Lambertian; the defaults (metallic 1) apply.
+TEST(LoaderGltf, PbrMaterialsMapToTheNearestPathTracerMaterial) {
+    TempDir tmp;
+    const std::string b = gltf_buffer();
+    const std::string json = R"({"asset": {"version": "2.0"}, "nodes": [{"mesh": 0}],
+  "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "material": 0}, {"attributes": {"POSITION": 0}, "material": 1},
+                             {"attributes": {"POSITION": 0}, "material": 2}, {"attributes": {"POSITION": 0}, "material": 3},
+                             {"attributes": {"POSITION": 0}, "material": 4}]}],
+  "materials": [
+    {"pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.6, 0.2, 1], "roughnessFactor": 0.5}},
+    {"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1], "metallicFactor": 1, "roughnessFactor": 0}},
+    {"pbrMetallicRoughness": {"metallicFactor": 0}, "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1}}},
+    {"pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.6, 1], "metallicFactor": 0}},
+    {"extensions": {"KHR_materials_transmission": {"transmissionFactor": 1}, "KHR_materials_ior": {"ior": 1.33}},
+     "pbrMetallicRoughness": {"metallicFactor": 0}}],
+  "buffers": [{"uri": "data:application/octet-stream;base64,)" + base64(b) + R"(", "byteLength": )" +
+                             std::to_string(b.size()) + R"(}],
+  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"}]})";
+    const TriangleMesh m = load_gltf(tmp.file("pbr.gltf", json));
+    ASSERT_EQ(m.materials.size(), 5u);
+    // Rough gold: roughness 0.5, alpha 0.25, exponent 2 / 0.0625 - 2 = 30.
+    EXPECT_EQ(m.materials[0].specular, Vec3(0.9f, 0.6f, 0.2f));
+    EXPECT_EQ(m.materials[0].diffuse, Vec3(0.0f));
+    EXPECT_FLOAT_EQ(m.materials[0].shininess, 30.0f);
+    EXPECT_EQ(surface_from_material(m.materials[0]).kind, SurfaceKind::Glossy);
+    EXPECT_EQ(surface_from_material(m.materials[1]).kind, SurfaceKind::Mirror);
+    EXPECT_EQ(surface_from_material(m.materials[2]).kind, SurfaceKind::Dielectric);
+    EXPECT_FLOAT_EQ(m.materials[2].ior, 1.5f);
+    EXPECT_FLOAT_EQ(m.materials[2].dissolve, 0.0f);
+    EXPECT_EQ(surface_from_material(m.materials[3]).kind, SurfaceKind::Lambert);
+    EXPECT_EQ(m.materials[3].diffuse, Vec3(0.2f, 0.4f, 0.6f));
+    EXPECT_FLOAT_EQ(m.materials[4].ior, 1.33f);
+    // A transmission outside [0, 1] is an error that names the material.
+    const std::string bad = std::string(json).replace(json.find("\"transmissionFactor\": 1}"), 24, "\"transmissionFactor\": 2}");
+    try {
+        load_gltf(tmp.file("bad.gltf", bad));
+        ADD_FAILURE() << "accepted transmissionFactor 2";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("material 2: transmissionFactor"), std::string::npos) << e.what();
+    }
 }
 
 TEST(LoaderGltf, EmbeddedBufferWithNodeTransforms) {
