@@ -47,6 +47,7 @@ TraceResult trace_path(const RenderScene& rs, const Accel& accel, const Camera& 
     const int tiles_x = (W + kTraceTile - 1) / kTraceTile, tiles_y = (H + kTraceTile - 1) / kTraceTile;
     std::atomic<uint64_t> rays_traced{0};
     Progress progress("render", uint64_t(W) * uint64_t(H) * options.spp, "samples", options.progress);
+    progress.show_rate_of("rays");
     const auto start = std::chrono::steady_clock::now();
 
     parallel_for(size_t(tiles_x) * size_t(tiles_y), 1, options.threads, [&](size_t tile_begin, size_t tile_end) {
@@ -59,7 +60,7 @@ TraceResult trace_path(const RenderScene& rs, const Accel& accel, const Camera& 
         std::vector<uint8_t> blocked;
         BatchOptions batch;
         batch.threads = 1;  // the tiles are the parallel loop
-        uint64_t local_rays = 0;
+        uint64_t local_rays = 0, reported_rays = 0;
         for (size_t tile = tile_begin; tile < tile_end; ++tile) {
             tile_pixels(tile, tiles_x, W, H, pixel_of);
             const uint32_t np = uint32_t(pixel_of.size());
@@ -155,6 +156,8 @@ TraceResult trace_path(const RenderScene& rs, const Accel& accel, const Camera& 
                 // Sum in sample order per pixel: the same order whatever thread ran the tile.
                 for (uint32_t k = 0; k < n; ++k) add_sample(result, pixel_of[k % np], paths[k].L, options.variance);
                 progress.advance(n);
+                progress.count_also(local_rays - reported_rays);
+                reported_rays = local_rays;
             }
         }
         rays_traced += local_rays;

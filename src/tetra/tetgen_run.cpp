@@ -18,6 +18,15 @@
 
 #include "tetra/tetgen_run.h"
 
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define THICKET_HAS_ASAN 1
+#endif
+#endif
+#ifndef THICKET_HAS_ASAN
+#define THICKET_HAS_ASAN 0
+#endif
+
 namespace thicket::tetra_detail {
 
 namespace {
@@ -137,12 +146,14 @@ TetgenResult run_tetgen(const TetgenInput& in, const std::string& switches, doub
             dup2(null, 1);
             dup2(null, 2);
         }
-#if !defined(__SANITIZE_ADDRESS__)
+        // AddressSanitizer reserves terabytes of address space up front: no RLIMIT_AS under it. g++
+        // says so by __SANITIZE_ADDRESS__, clang by __has_feature; THICKET_SANITIZED covers both.
+#if !defined(__SANITIZE_ADDRESS__) && !defined(THICKET_SANITIZED) && !THICKET_HAS_ASAN
         const rlim_t bytes = rlim_t(memory_mb) << 20;
         const rlimit limit{bytes, bytes};
         setrlimit(RLIMIT_AS, &limit);
 #else
-        (void)memory_mb;  // AddressSanitizer reserves terabytes of address space up front
+        (void)memory_mb;
 #endif
         const std::string buf = child_run(in, switches);
         size_t done = 0;

@@ -100,8 +100,11 @@ void Progress::draw() {
     const double frac = total_ > 0 ? double(done) / double(total_) : 0.0;
     std::string eta = "?";
     if (rate > 0 && total_ >= done) eta = format_duration(double(total_ - done) / rate);
-    std::snprintf(buf, sizeof buf, " %5.1f%%  %s %s/s  ETA %s", 100.0 * frac, format_si(rate).c_str(), unit_.c_str(),
-                  eta.c_str());
+    std::string also;
+    if (!also_unit_.empty() && secs > 0)
+        also = "  " + format_si(double(also_.load(std::memory_order_relaxed)) / secs) + " " + also_unit_ + "/s";
+    std::snprintf(buf, sizeof buf, " %5.1f%%  %s %s/s%s  ETA %s", 100.0 * frac, format_si(rate).c_str(),
+                  unit_.c_str(), also.c_str(), eta.c_str());
     const std::string tail = buf;
     // Never reach the last column: a wrapped line could not be erased by '\r' any more.
     const int columns = terminal_columns() - 1;

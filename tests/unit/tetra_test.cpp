@@ -100,6 +100,7 @@ TEST(Tetra, CorruptedPayloadIsRefused) {
     const Scene& scene = scene_named("closed-cube");
     const Tetra<Triangles<>> tetra(Triangles<>(scene.mesh), TetraBuildOptions{});
     TetraData bad = tetra.data();
+    ASSERT_GT(bad.mesh.tets.size(), 5u) << "the closed cube was not meshed";
     bad.mesh.tets[5] = uint32_t(bad.mesh.points.size());
     EXPECT_THROW(validate_tetra(bad, scene.primitive_count()), Error);
     bad = tetra.data();

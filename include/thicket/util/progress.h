@@ -23,6 +23,11 @@ public:
 
     /// Records n more units done; thread-safe and cheap (one atomic add), callable from workers.
     void advance(uint64_t n = 1) { done_.fetch_add(n, std::memory_order_relaxed); }
+    /// Also shows the rate of a second count (e.g. "rays" while the bar counts samples); call
+    /// before the work starts. Not thread-safe; count_also() is.
+    void show_rate_of(std::string unit) { also_unit_ = std::move(unit); }
+    /// Records n more units of the second count (show_rate_of); one atomic add.
+    void count_also(uint64_t n) { also_.fetch_add(n, std::memory_order_relaxed); }
     /// Units recorded so far.
     uint64_t done() const { return done_.load(std::memory_order_relaxed); }
     /// Seconds since construction.
@@ -44,6 +49,8 @@ private:
     std::string label_, unit_;
     uint64_t total_;
     std::atomic<uint64_t> done_{0};
+    std::string also_unit_;
+    std::atomic<uint64_t> also_{0};
     std::chrono::steady_clock::time_point start_;
     bool shown_ = false;    // only touched by the drawing thread, then by stop() after joining it
     bool stopped_ = false;
