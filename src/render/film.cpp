@@ -1,7 +1,10 @@
 #include "thicket/render/film.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <string>
 
 #include <tinyexr.h>
@@ -42,6 +45,10 @@ void write_exr(const std::vector<Vec3>& radiance, int width, int height, const s
         rgb[3 * i + 2] = c.z;
     }
     write_atomically(path, [&](const std::string& temp) {
+        // Opened here first: tinyexr 1.0.1's SaveEXR leaks its header when it cannot open the file.
+        std::FILE* probe = std::fopen(temp.c_str(), "wb");
+        if (!probe) throw FileError(path + ": cannot write: " + std::strerror(errno));
+        std::fclose(probe);
         const char* err = nullptr;
         if (SaveEXR(rgb.data(), width, height, 3, /*save_as_fp16=*/0, temp.c_str(), &err) < 0) {
             const std::string reason = err ? err : "unknown tinyexr error";
