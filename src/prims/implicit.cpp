@@ -2,6 +2,7 @@
 // sphere tracing, both over a surface's line evaluator (implicit.h).
 #include "thicket/prims/implicit.h"
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <sstream>
@@ -144,8 +145,9 @@ double refine_root(const E& e, double lo, double hi, bool lo_negative, double to
 /// where min |f| on T is below the mean-value form's overestimate, ~ |f''| tol^2 / 2.
 /// Spans beginning beyond `limit` are not searched (a root there would be rejected anyway), but
 /// the spans are the halvings of [a, b] whatever the limit, so the root found does not depend on it.
+/// `budget`: spans split at most (the work bound; see span_budget).
 template <class E>
-std::optional<double> isolate_first_root(const E& e, double a, double b, double tol, double limit) {
+std::optional<double> isolate_first_root(const E& e, double a, double b, double tol, double limit, long budget) {
     struct Span {
         double t0, t1;
     };
@@ -157,7 +159,6 @@ std::optional<double> isolate_first_root(const E& e, double a, double b, double 
     const double refine_tol = 1e-3 * tol;
     // A budget that only a function flat to within rounding over a long stretch can exhaust; the
     // pending interval then may contain a root, and is reported (a hit is the safe side).
-    long budget = 1L << 20;
     while (n > 0) {
         const Span s = stack[--n];
         if (s.t0 > limit) return std::nullopt;  // the top span is the leftmost pending one
@@ -227,6 +228,9 @@ void check_surface(const BarthSextic& s) {
 }
 void check_surface(const BlobSum& s) {
     if (s.blobs.empty()) throw Error("blobs: at least one blob is needed");
+    if (s.blobs.size() > kMaxBlobs)
+        throw Error("blobs: " + std::to_string(s.blobs.size()) + " blobs, more than " + std::to_string(kMaxBlobs) +
+                    " (the bound that keeps the work per ray bounded)");
     if (!(s.threshold > 0.0) || !std::isfinite(s.threshold))
         throw Error("blobs: threshold must be positive and finite, got " + str(s.threshold));
     for (size_t i = 0; i < s.blobs.size(); ++i) {
@@ -245,6 +249,18 @@ void check_surface(const BlobSum& s) {
 double lipschitz_of(const TangleCube& s, const Box3d& box) { return lipschitz_over_box(s, box, 16); }
 double lipschitz_of(const BarthSextic& s, const Box3d& box) { return lipschitz_over_box(s, box, 16); }
 double lipschitz_of(const BlobSum& s, const Box3d&) { return s.lipschitz_bound(); }
+
+/// Terms of f that one evaluation along a ray may sum: what the work per step scales with.
+int64_t terms_of(const TangleCube&) { return 1; }
+int64_t terms_of(const BarthSextic&) { return 1; }
+int64_t terms_of(const BlobSum& s) { return int64_t(s.blobs.size()); }
+
+/// The interval method's span budget: 2^20 spans for a surface of a few terms (only a function
+/// flat to within rounding over a long stretch exhausts it), fewer for many blobs so that the
+/// worst ray stays near kMaxImplicitWorkPerRay term evaluations, never below 2^14.
+long span_budget(int64_t terms) {
+    return long(std::clamp<int64_t>(kMaxImplicitWorkPerRay / terms, int64_t(1) << 14, int64_t(1) << 20));
+}
 
 uint64_t hash_surface(const TangleCube&, uint64_t h) { return h; }
 uint64_t hash_surface(const BarthSextic& s, uint64_t h) { return fnv1a(&s.clip, sizeof s.clip, h); }
@@ -278,6 +294,13 @@ ImplicitKernel<S>::ImplicitKernel(S surface, const ImplicitOptions& options)
                     str(options.epsilon));
     if (options.max_steps < 1)
         throw Error("implicit: max-steps must be at least 1, got " + std::to_string(options.max_steps));
+    // Each sphere-tracing step evaluates every term of f (every blob the ray passes near).
+    if (options.method == ImplicitMethod::sphere_tracing &&
+        int64_t(options.max_steps) * terms_of(surface_) > kMaxImplicitWorkPerRay)
+        throw Error("implicit: max-steps x terms = " + std::to_string(options.max_steps) + " x " +
+                    std::to_string(terms_of(surface_)) + " = " +
+                    std::to_string(int64_t(options.max_steps) * terms_of(surface_)) + " exceeds " +
+                    std::to_string(kMaxImplicitWorkPerRay) + ", the bound on the work per ray");
     box_ = surface_.box();
     double diag2 = 0.0;
     Vec3d lo, hi;
@@ -331,7 +354,7 @@ bool ImplicitKernel<S>::intersect(const Ray& ray, float tmax, ShapeHit& hit) con
     const double tol = std::max(epsilon_ / dlen, (t1 - t0) * 0x1p-60);
     std::optional<double> root;
     if (options_.method == ImplicitMethod::interval)
-        root = isolate_first_root(eval, t0, t1, tol, limit);
+        root = isolate_first_root(eval, t0, t1, tol, limit, span_budget(terms_of(surface_)));
     else
         root = sphere_trace_first_root(eval, t0, t1, lipschitz_ * dlen, tol, options_.max_steps, 1e-3 * tol, limit);
     // ray.tmin <= root, a float, so the rounded root stays at or above it.

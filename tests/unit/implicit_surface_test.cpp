@@ -249,5 +249,37 @@ TEST(ImplicitKernel, BadParametersAreErrors) {
     }
 }
 
+// Each sphere-tracing step sums every blob the ray passes near, so the steps and the blobs bound
+// the work per ray only together; the interval method's span budget shrinks with the blobs.
+TEST(ImplicitKernel, WorkPerRayIsBoundedByStepsTimesBlobs) {
+    BlobSum many;
+    for (size_t i = 0; i < 1024; ++i) many.blobs.push_back({{0.01 * double(i), 0.0, 0.0}, 1.0, 1.0});
+    ImplicitOptions o;
+    o.method = ImplicitMethod::sphere_tracing;
+    o.max_steps = int(kMaxImplicitWorkPerRay / 1024);
+    EXPECT_NO_THROW(Blobs(many, o)) << "exactly at the bound";
+    o.max_steps += 1;
+    try {
+        Blobs b(many, o);
+        FAIL() << "accepted max_steps x blobs above kMaxImplicitWorkPerRay";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("x 1024"), std::string::npos) << e.what();
+    }
+    o.method = ImplicitMethod::interval;  // max_steps is unused there: its budget adapts instead
+    const Blobs interval(many, o);
+    ShapeHit hit{};
+    const Ray ray{{5.0f, 0.0f, 10.0f}, 0.0f, {0.0f, 0.0f, -1.0f}, kInfinity};
+    EXPECT_TRUE(interval.intersect(ray, kInfinity, hit)) << "the blobs' union covers x = 5 on the axis";
+
+    BlobSum too_many;
+    too_many.blobs.assign(kMaxBlobs + 1, Blob{{0.0, 0.0, 0.0}, 1.0, 1.0});
+    try {
+        Blobs b(too_many, {});
+        FAIL() << "accepted more than kMaxBlobs blobs";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find(std::to_string(kMaxBlobs + 1)), std::string::npos) << e.what();
+    }
+}
+
 }  // namespace
 }  // namespace thicket

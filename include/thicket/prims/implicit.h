@@ -216,6 +216,15 @@ enum class ImplicitMethod { interval, sphere_tracing };
 ImplicitMethod parse_implicit_method(const std::string& name);
 const char* to_string(ImplicitMethod m);
 
+/// The bound on the work per ray of an implicit surface, in evaluations of one term of f (a
+/// blob, or the whole polynomial of the tangle cube and Barth's sextic): sphere tracing needs
+/// max_steps x terms <= this, and the interval method's span budget shrinks with the terms so
+/// that its worst case stays near it. About a second per ray at worst.
+inline constexpr int64_t kMaxImplicitWorkPerRay = int64_t(1) << 26;
+/// Blobs in one sum: with the interval method's smallest span budget (2^14 spans), the worst
+/// ray costs about kMaxImplicitWorkPerRay term evaluations.
+inline constexpr size_t kMaxBlobs = size_t(1) << 12;
+
 struct ImplicitOptions {
     Vec3 center{0.0f};  ///< world position of the object-space origin
     float scale = 1.0f;  ///< world units per object unit (uniform)
@@ -224,7 +233,8 @@ struct ImplicitOptions {
     /// the t-interval width below which an unresolved interval counts as a tangential root.
     /// Sphere tracing: the smallest step (and so the widest pair of roots it can step over).
     double epsilon = 0.0;
-    /// Sphere tracing only: steps before the ray is given up as a miss.
+    /// Sphere tracing only: steps before the ray is given up as a miss. max_steps times the
+    /// surface's terms (blobs) may not exceed kMaxImplicitWorkPerRay.
     int max_steps = 1 << 16;
 };
 
@@ -234,7 +244,8 @@ template <class S>
 class ImplicitKernel {
 public:
     /// Throws Error if a parameter is out of range (non-positive or non-finite scale, epsilon,
-    /// max_steps, radius, weight, threshold or clip; no blobs).
+    /// max_steps, radius, weight, threshold or clip; no blobs or more than kMaxBlobs; sphere
+    /// tracing's max_steps x blobs above kMaxImplicitWorkPerRay).
     explicit ImplicitKernel(S surface, const ImplicitOptions& options = {});
 
     Aabb bounds() const { return bounds_; }
