@@ -153,7 +153,7 @@ std::vector<Vec3> read_ply_vertices(const std::string& path) {
 TEST(Teapot, AgreesWithTheSharedTessellatedTeapot) {
     // teapot.ply (a tessellation of Newell's data from another source, y-up) has vertices at
     // every patch's corners and centre: a control point typed wrong would move one of them.
-    const std::string path = std::string(THICKET_SHARED_SCENES) + "/teapot.ply";
+    const std::string path = THICKET_SHARED_SCENES "/teapot.ply";
     if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not found";
     const std::vector<Vec3> ply = read_ply_vertices(path);
     ASSERT_EQ(ply.size(), 3644u);
