@@ -14,6 +14,7 @@
 
 #include "support/double_reference.h"
 #include "support/reference.h"
+#include "support/variant_cover.h"
 #include "support/test_scenes.h"
 #include "thicket/accel/registry.h"
 #include "thicket/core/error.h"
@@ -245,7 +246,7 @@ std::string test_name(const ::testing::TestParamInfo<std::string>& info) {
     return name;
 }
 
-INSTANTIATE_TEST_SUITE_P(Registry, Conformance, ::testing::ValuesIn(all_accel_variants()), test_name);
+INSTANTIATE_TEST_SUITE_P(Registry, Conformance, ::testing::ValuesIn(conformance_variants()), test_name);
 
 }  // namespace
 }  // namespace thicket::testing

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "support/test_scenes.h"
+#include "support/variant_cover.h"
 #include "thicket/accel/registry.h"
 #include "thicket/core/error.h"
 
@@ -153,7 +154,7 @@ std::string test_name(const ::testing::TestParamInfo<std::string>& info) {
     return name;
 }
 
-INSTANTIATE_TEST_SUITE_P(Registry, ExtraQueries, ::testing::ValuesIn(all_accel_variants()), test_name);
+INSTANTIATE_TEST_SUITE_P(Registry, ExtraQueries, ::testing::ValuesIn(conformance_variants()), test_name);
 
 }  // namespace
 }  // namespace thicket::testing
