@@ -111,6 +111,13 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
             return std::make_unique<Bvh8<decltype(prims)>>(std::move(prims), options);
         });
     };
+    info.load = [](std::istream& in, const Scene& scene, const AccelSpec& spec) {
+        bvh8::SavedTree saved = bvh8::read_tree(in, scene.primitive_count());
+        const Bvh8Options options = bvh8_options(spec);
+        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
+            return std::make_unique<Bvh8<decltype(prims)>>(std::move(prims), options, std::move(saved));
+        });
+    };
     registry.push_back(std::move(info));
 }
 

@@ -4,13 +4,16 @@
 // force. The validators must prove what traversal relies on, not only that the file is well formed.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <string>
 
 #include "support/test_scenes.h"
 #include "thicket/accel/registry.h"
 #include "thicket/bvh/bvh.h"
+#include "thicket/bvh8/node.h"
 #include "thicket/prims/triangles.h"
 #include "thicket/core/error.h"
 
@@ -69,7 +72,8 @@ TEST(SavedStructure, AFlippedPayloadBitIsRefusedOrHarmless) {
     const auto brute = build_accel("brute", scene);
     std::vector<Hit> truth;
     for (const Ray& r : rays) truth.push_back(brute->intersect(r));
-    for (const char* spec : {"bvh", "bvh:traversal=ordered-axis", "kdtree", "kdtree:builder=median", "bih"}) {
+    for (const char* spec :
+         {"bvh", "bvh:traversal=ordered-axis", "kdtree", "kdtree:builder=median", "bih", "bvh8", "bvh8:leaf-merge=8"}) {
         const std::string bytes = saved_accel_bytes(*build_accel(spec, scene), scene);
         const size_t payload_at = layout_of(bytes).payload_at;
         size_t refused = 0, loaded = 0;
@@ -103,6 +107,51 @@ TEST(SavedStructure, AFlippedPayloadBitIsRefusedOrHarmless) {
 // Found by the fuzz.saved replay (the input is fuzz/regressions/saved/bvh-leaves-overlap.bin,
 // which fuzz.saved replays): a leaf whose first entry was changed to another leaf's still covered
 // n entries in total, fit its box, and loaded; two triangles became unreachable.
+/// Loading a bvh8 proves more than its structure: each change below keeps the file well formed
+/// (checksum resealed) and must be refused by name.
+TEST(SavedStructure, Bvh8RefusesShrunkBoxesForeignTrianglesAndFilledEmptyLanes) {
+    const Scene scene = load_scene("cornell");
+    const std::string bytes = saved_accel_bytes(*build_accel("bvh8", scene), scene);
+    const size_t payload = layout_of(bytes).payload_at;
+    uint64_t nodes = 0, blocks = 0;
+    std::memcpy(&nodes, bytes.data() + payload, 8);
+    std::memcpy(&blocks, bytes.data() + payload + 8, 8);
+    ASSERT_GE(nodes, 1u);
+    ASSERT_GE(blocks, 1u);
+    const size_t node0 = payload + 24, block0 = node0 + nodes * sizeof(bvh8::Node);
+    ASSERT_EQ(error_of(bytes, scene), "");
+
+    auto edited = [&](size_t at, float value) {
+        std::string b = bytes;
+        std::memcpy(b.data() + at, &value, 4);
+        return reseal(b);
+    };
+    // The root's first valid lane: its upper x moved below its lower x, so that its box no longer
+    // holds what it did (the Cornell box's lanes may be flat).
+    bvh8::Node root;
+    std::memcpy(&root, bytes.data() + node0, sizeof root);
+    const int lane = std::countr_zero(root.valid);
+    const float lo = root.box[0][0][lane];
+    const size_t upper_x = node0 + offsetof(bvh8::Node, box) + (1 * bvh8::kWidth + size_t(lane)) * 4;
+    const std::string shrunk = error_of(edited(upper_x, lo - 1.0f - std::fabs(lo)), scene);
+    EXPECT_NE(shrunk.find("does not enclose"), std::string::npos) << shrunk;
+
+    // A vertex of the first block's first lane moved by one ulp.
+    bvh8::Tri4 block;
+    std::memcpy(&block, bytes.data() + block0, sizeof block);
+    ASSERT_NE(block.id[0], kNoPrim);
+    const float x = block.v[0][0][0];
+    EXPECT_NE(error_of(edited(block0, std::nextafter(x, INFINITY)), scene).find("differs from the scene"),
+              std::string::npos);
+
+    // The first block's first lane renamed empty while it keeps its vertices.
+    std::string renamed = bytes;
+    const uint32_t none = kNoPrim;
+    std::memcpy(renamed.data() + block0 + offsetof(bvh8::Tri4, id), &none, 4);
+    EXPECT_NE(error_of(reseal(renamed), scene).find("empty lane with a vertex"), std::string::npos)
+        << error_of(reseal(renamed), scene);
+}
+
 TEST(SavedStructure, BvhLeavesThatShareEntriesAreRefused) {
     const Scene scene = load_scene("cornell");
     const auto accel = build_accel("bvh:max-leaf=2", scene);

@@ -4,7 +4,9 @@
 /// triangle set is copied into the blocks (the structure owns its triangles, no index
 /// indirection); any other set keeps its primitives and leaves list ids tested one by one.
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <ostream>
 #include <span>
 #include <string>
 #include <type_traits>
@@ -14,6 +16,7 @@
 #include "thicket/accel/accel.h"
 #include "thicket/bvh/build.h"
 #include "thicket/bvh8/build.h"
+#include "thicket/bvh8/bvh8_io.h"
 #include "thicket/bvh8/isa.h"
 #include "thicket/prims/primitive_set.h"
 #include "thicket/prims/triangles.h"
@@ -76,6 +79,52 @@ public:
         }
         ctx_ = {tree_.nodes.data(), blocks_.data(), ids_.data(), &prims_, &closest_leaf, &any_leaf};
     }
+    /// Adopts a saved tree (bvh8::read_tree) after proving that it answers for `prims` as the
+    /// built one would: its leaves hold the scene's own primitives (triangles bit for bit, none
+    /// degenerate), every primitive that the build keeps is reachable, and every box encloses
+    /// what lies below it. Throws Error naming what is wrong.
+    Bvh8(Prims prims, const Bvh8Options& options, bvh8::SavedTree saved)
+        : prims_(std::move(prims)),
+          primitives_(prims_.size()),
+          packets_(options.packets),
+          tree_(std::move(saved.tree)),
+          blocks_(std::move(saved.blocks)),
+          ids_(std::move(saved.ids)),
+          kernels_(&bvh8::kernels_for(options.isa)) {
+        for (uint32_t i = 0; i < primitives_; ++i) tree_.bounds.grow(prims_.bounds(i));
+        std::vector<bool> seen(primitives_, false);
+        if constexpr (bvh8::kIsTriangles<Prims>) {
+            if (!ids_.empty()) throw Error("bvh8: a triangle scene's payload lists primitive ids, not blocks");
+            bvh8::for_each_leaf(tree_, [&](uint32_t first, uint32_t size) {
+                for (uint32_t b = first; b < first + size; ++b) check_block(b, seen);
+            });
+            bvh8::check_boxes(tree_, [&](uint32_t first, uint32_t size) { return blocks_bounds(first, size); });
+            for (uint32_t i = 0; i < primitives_; ++i) {
+                const auto v = prims_.triangle(i);
+                if (!seen[i] && !Prims::degenerate({v[0], v[1], v[2]}))
+                    throw Error("bvh8: triangle " + std::to_string(i) + " is in no leaf");
+            }
+            prims_ = Prims();  // as after a build: the blocks are the only copy
+        } else {
+            if (!blocks_.empty()) throw Error("bvh8: payload holds triangle blocks for a scene that is not only triangles");
+            bvh8::for_each_leaf(tree_, [&](uint32_t first, uint32_t size) {
+                for (uint32_t k = first; k < first + size; ++k) {
+                    if (ids_[k] >= primitives_)
+                        throw Error("bvh8: leaf entry " + std::to_string(k) + " names primitive " +
+                                    std::to_string(ids_[k]) + " of " + std::to_string(primitives_));
+                    seen[ids_[k]] = true;
+                }
+            });
+            bvh8::check_boxes(tree_, [&](uint32_t first, uint32_t size) {
+                Aabb box;
+                for (uint32_t k = first; k < first + size; ++k) box.grow(prims_.bounds(ids_[k]));
+                return box;
+            });
+            for (uint32_t i = 0; i < primitives_; ++i)
+                if (!seen[i]) throw Error("bvh8: primitive " + std::to_string(i) + " is in no leaf");
+        }
+        ctx_ = {tree_.nodes.data(), blocks_.data(), ids_.data(), &prims_, &closest_leaf, &any_leaf};
+    }
     Bvh8(const Bvh8&) = delete;  // ctx_ points into this object
     Bvh8& operator=(const Bvh8&) = delete;
 
@@ -119,6 +168,8 @@ public:
         }
         return s;
     }
+
+    void save(std::ostream& out) const override { bvh8::write_tree(out, tree_, blocks_, ids_); }
 
     const bvh8::Tree& tree() const { return tree_; }
     const bvh8::KernelTable& kernels() const { return *kernels_; }
@@ -186,6 +237,43 @@ private:
             ++kept_;
         }
         return p;
+    }
+
+    /// A loaded block: each lane either the scene's non-degenerate triangle `id` bit for bit, or
+    /// kNoPrim with all-zero vertices (never hit). Marks the triangles seen; counts kept_.
+    void check_block(uint32_t index, std::vector<bool>& seen) {
+        const bvh8::Tri4& b = blocks_[index];
+        for (int lane = 0; lane < 4; ++lane) {
+            const std::string where = "bvh8: block " + std::to_string(index) + " lane " + std::to_string(lane);
+            if (b.id[lane] == kNoPrim) {
+                for (int vertex = 0; vertex < 3; ++vertex)
+                    for (int a = 0; a < 3; ++a)
+                        if (b.v[vertex][a][lane] != 0.0f) throw Error(where + ": an empty lane with a vertex");
+                continue;
+            }
+            if (b.id[lane] >= primitives_)
+                throw Error(where + " names triangle " + std::to_string(b.id[lane]) + " of " + std::to_string(primitives_));
+            const auto v = prims_.triangle(b.id[lane]);
+            if (Prims::degenerate({v[0], v[1], v[2]}))
+                throw Error(where + " holds degenerate triangle " + std::to_string(b.id[lane]));
+            for (int vertex = 0; vertex < 3; ++vertex)
+                for (int a = 0; a < 3; ++a)
+                    if (std::bit_cast<uint32_t>(b.v[vertex][a][lane]) != std::bit_cast<uint32_t>(v[size_t(vertex)][a]))
+                        throw Error(where + ": triangle " + std::to_string(b.id[lane]) + " differs from the scene's");
+            seen[b.id[lane]] = true;
+            ++kept_;
+        }
+    }
+    /// The exact box of the triangles in blocks [first, first + size).
+    Aabb blocks_bounds(uint32_t first, uint32_t size) const {
+        Aabb box;
+        for (uint32_t k = first; k < first + size; ++k)
+            for (int lane = 0; lane < 4; ++lane) {
+                if (blocks_[k].id[lane] == kNoPrim) continue;
+                for (int vertex = 0; vertex < 3; ++vertex)
+                    box.grow(Vec3{blocks_[k].v[vertex][0][lane], blocks_[k].v[vertex][1][lane], blocks_[k].v[vertex][2][lane]});
+            }
+        return box;
     }
 
     static bool closest_leaf(const void* prims, const uint32_t* ids, uint32_t count, const Ray& ray, Hit& hit) {

@@ -1,0 +1,44 @@
+#pragma once
+/// Saving and loading an 8-wide tree: the node array, the leaf storage (4-triangle blocks or
+/// primitive ids) and the build's figures, as they are in memory, each preceded by its length.
+/// Loading proves what the kernels rely on before anything is traced: the tree's structure
+/// (validate_tree), that every box encloses what lies below it, and (in Bvh8's loading
+/// constructor, which knows the primitives) that the leaves hold the scene's own primitives.
+#include <cstdint>
+#include <functional>
+#include <istream>
+#include <ostream>
+#include <vector>
+
+#include "thicket/bvh8/build.h"
+
+namespace thicket::bvh8 {
+
+/// What a saved bvh8 holds besides its primitives' identity.
+struct SavedTree {
+    Tree tree;
+    AlignedVector<Tri4, 64> blocks;  ///< triangle sets
+    std::vector<uint32_t> ids;       ///< other primitive sets
+};
+
+/// Writes the payload; `blocks` or `ids` is empty (whichever the leaf kind does not use).
+void write_tree(std::ostream& out, const Tree& tree, const AlignedVector<Tri4, 64>& blocks,
+                const std::vector<uint32_t>& ids);
+
+/// Reads a payload written by write_tree for a scene of `primitive_count` primitives: every
+/// length checked against it before allocating, then validate_tree. Throws Error naming what is
+/// wrong. The caller checks the leaves' contents (check_leaves) and the boxes (check_boxes).
+SavedTree read_tree(std::istream& in, size_t primitive_count);
+
+/// The exact box of a leaf lane's contents: (first, size) as stored in the node.
+using LeafBounds = std::function<Aabb(uint32_t first, uint32_t size)>;
+
+/// Proves that every valid lane's box encloses what lies below it (a child node's valid lanes'
+/// boxes, a leaf's `leaf_bounds`), and recomputes tree.leaves and tree.max_depth over the nodes
+/// reachable from the root. Throws Error naming the first lane that does not enclose.
+void check_boxes(Tree& tree, const LeafBounds& leaf_bounds);
+
+/// Calls `visit(first, size)` for every leaf lane reachable from the root.
+void for_each_leaf(const Tree& tree, const std::function<void(uint32_t first, uint32_t size)>& visit);
+
+}  // namespace thicket::bvh8

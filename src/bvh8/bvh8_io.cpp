@@ -1,0 +1,117 @@
+// bvh8 payload: lengths, then the arrays as they are in memory (nodes and blocks are plain,
+// relocatable data), then the build's figures. Reading bounds every length by the scene's
+// primitive count before allocating; the structure and the boxes are then proved.
+#include "thicket/bvh8/bvh8_io.h"
+
+#include <algorithm>
+#include <string>
+
+#include "thicket/core/error.h"
+#include "thicket/util/binary_io.h"
+
+namespace thicket::bvh8 {
+
+namespace {
+
+/// A tree over n primitives has at most n leaves and so fewer than n nodes of two or more
+/// children, plus a root; spatial splits may repeat a primitive, so blocks and ids are bounded
+/// by a generous multiple of n rather than by n itself.
+constexpr size_t kMaxReferencesPerPrimitive = 4;
+
+void check_count(uint64_t count, uint64_t bound, const char* what, size_t primitive_count) {
+    if (count > bound)
+        throw Error("bvh8 payload claims " + std::to_string(count) + " " + what + " for " +
+                    std::to_string(primitive_count) + " primitives (at most " + std::to_string(bound) + ")");
+}
+
+}  // namespace
+
+void write_tree(std::ostream& out, const Tree& tree, const AlignedVector<Tri4, 64>& blocks,
+                const std::vector<uint32_t>& ids) {
+    write_value(out, uint64_t(tree.nodes.size()));
+    write_value(out, uint64_t(blocks.size()));
+    write_value(out, uint64_t(ids.size()));
+    write_array(out, tree.nodes.data(), tree.nodes.size());
+    write_array(out, blocks.data(), blocks.size());
+    write_array(out, ids.data(), ids.size());
+    write_value(out, tree.sah_cost);
+    write_value(out, tree.embree_sah_cost);
+}
+
+SavedTree read_tree(std::istream& in, size_t primitive_count) {
+    PayloadReader reader(in, "bvh8");
+    uint64_t nodes = 0, blocks = 0, ids = 0;
+    reader.value(nodes, "node count");
+    reader.value(blocks, "block count");
+    reader.value(ids, "id count");
+    check_count(nodes, primitive_count + 1, "nodes", primitive_count);
+    check_count(blocks, kMaxReferencesPerPrimitive * primitive_count, "4-triangle blocks", primitive_count);
+    check_count(ids, kMaxReferencesPerPrimitive * primitive_count, "primitive ids", primitive_count);
+    if (blocks && ids) throw Error("bvh8 payload holds both triangle blocks and primitive ids");
+    if (nodes == 0 && (blocks || ids)) throw Error("bvh8 payload has leaves but no nodes");
+    SavedTree saved;
+    saved.tree.nodes.resize(nodes);
+    saved.blocks.resize(blocks);
+    saved.ids.resize(ids);
+    reader.array(saved.tree.nodes.data(), nodes, "nodes");
+    reader.array(saved.blocks.data(), blocks, "4-triangle blocks");
+    reader.array(saved.ids.data(), ids, "primitive ids");
+    reader.value(saved.tree.sah_cost, "SAH cost");
+    reader.value(saved.tree.embree_sah_cost, "Embree SAH cost");
+    if (in.peek() != std::char_traits<char>::eof()) throw Error("bvh8 payload has trailing bytes");
+    validate_tree(saved.tree, blocks ? blocks : ids);
+    return saved;
+}
+
+void for_each_leaf(const Tree& tree, const std::function<void(uint32_t first, uint32_t size)>& visit) {
+    if (tree.nodes.empty()) return;
+    // Children lie after their parent (validate_tree): a node is reachable iff a reachable
+    // node before it points to it, so one forward pass marks them all.
+    std::vector<bool> reachable(tree.nodes.size(), false);
+    reachable[0] = true;
+    for (size_t n = 0; n < tree.nodes.size(); ++n) {
+        if (!reachable[n]) continue;
+        const Node& node = tree.nodes[n];
+        for (int lane = 0; lane < kWidth; ++lane) {
+            if (!(node.valid >> lane & 1)) continue;
+            if (node.leaf_size[lane] == 0)
+                reachable[node.child[lane]] = true;
+            else
+                visit(node.child[lane], node.leaf_size[lane]);
+        }
+    }
+}
+
+void check_boxes(Tree& tree, const LeafBounds& leaf_bounds) {
+    tree.leaves = 0;
+    tree.max_depth = 0;
+    if (tree.nodes.empty()) return;
+    // Backwards, so that a child node's content box is known before its parent's lane is checked.
+    std::vector<Aabb> content(tree.nodes.size());
+    std::vector<size_t> height(tree.nodes.size(), 1);
+    for (size_t n = tree.nodes.size(); n-- > 0;) {
+        const Node& node = tree.nodes[n];
+        for (int lane = 0; lane < kWidth; ++lane) {
+            if (!(node.valid >> lane & 1)) continue;
+            Aabb below;
+            if (node.leaf_size[lane] == 0) {
+                below = content[node.child[lane]];
+                height[n] = std::max(height[n], height[node.child[lane]] + 1);
+            } else {
+                below = leaf_bounds(node.child[lane], node.leaf_size[lane]);
+                height[n] = std::max<size_t>(height[n], 2);  // the leaves' level counts (Tree::max_depth)
+            }
+            Aabb box;
+            for (int a = 0; a < 3; ++a) box.min[a] = node.box[a][0][lane], box.max[a] = node.box[a][1][lane];
+            for (int a = 0; a < 3; ++a)
+                if (!below.empty() && !(box.min[a] <= below.min[a] && below.max[a] <= box.max[a]))
+                    throw Error("bvh8: node " + std::to_string(n) + " lane " + std::to_string(lane) +
+                                ": its box does not enclose what lies below it");
+            content[n].grow(box);
+        }
+    }
+    tree.max_depth = height[0];
+    for_each_leaf(tree, [&](uint32_t, uint32_t) { ++tree.leaves; });
+}
+
+}  // namespace thicket::bvh8
