@@ -18,6 +18,7 @@
 #include "thicket/bvh8/build.h"
 #include "thicket/bvh8/bvh8_io.h"
 #include "thicket/bvh8/isa.h"
+#include "thicket/core/error.h"
 #include "thicket/prims/primitive_set.h"
 #include "thicket/prims/triangles.h"
 
