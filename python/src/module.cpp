@@ -77,7 +77,10 @@ py::list accels_list() {
         py::list options;
         for (const OptionInfo& o : info.options) {
             py::dict d("key"_a = o.key, "help"_a = o.help, "default"_a = o.default_value);
-            if (o.choices.empty()) {
+            if (o.real) {
+                d["min"] = o.real_min;
+                d["max"] = o.real_max;
+            } else if (o.choices.empty()) {
                 d["min"] = o.min;
                 d["max"] = o.max;
             } else {

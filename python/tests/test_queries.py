@@ -8,7 +8,8 @@ import thicket
 from conftest import random_rays
 
 
-@pytest.fixture(scope="module", params=["bvh8", "kdtree", "brute"])
+# The sbvh spec cuts the cube's face triangles (each pair shares one box): triangles in several leaves.
+@pytest.fixture(scope="module", params=["bvh8", "kdtree", "brute", "bvh:alpha=0,budget=2,builder=sbvh,max-leaf=1"])
 def cube_accel(request, cube):
     return thicket.build(cube, request.param)
 
@@ -63,6 +64,31 @@ def test_lists_agree_with_counts_cast_and_brute_force(cornell):
     assert np.all(np.diff(lists["t_hit"])[same_ray] > 0)
     first = lists["ray_splits"][:-1][counts > 0]
     assert np.array_equal(lists["t_hit"][first], accel.cast_rays(rays)["t_hit"][counts > 0])
+
+
+def test_a_triangle_in_several_leaves_is_counted_once():
+    """Spatial splits (builder=sbvh) list a cut triangle in one leaf per part; rays along the
+    long thin diagonal triangles reach several of them, and still cross each triangle once."""
+    rng = np.random.default_rng(4)
+    n = 200
+    d = np.array([[1 if i & 1 else -1, 1 if i & 2 else -1, 1] for i in range(n)], np.float32)
+    start = np.array([5, 5, 1], np.float32) - 4 * d + rng.uniform(0, 2, (n, 3)).astype(np.float32)
+    end = start + d * rng.uniform(4, 8, (n, 1)).astype(np.float32)
+    vertices = np.stack([start, end, end + np.array([0.02, -0.02, 0], np.float32)], axis=1).reshape(-1, 3)
+    scene = thicket.Scene(vertices, np.arange(3 * n, dtype=np.int32).reshape(n, 3))
+    o = np.concatenate([rng.uniform(0, 10, (4000, 2)), np.full((4000, 1), -2.0)], axis=1)
+    target = np.concatenate([rng.uniform(0, 10, (4000, 2)), np.full((4000, 1), 12.0)], axis=1)
+    rays = np.concatenate([o, target - o], axis=1).astype(np.float32)
+    brute = thicket.build(scene, "brute")
+    want = brute.count_intersections(rays)
+    assert want.sum() > 500
+    for spec in ["bvh:builder=sbvh,budget=2,max-leaf=1", "bvh8:budget=2,quality=high"]:
+        accel = thicket.build(scene, spec)
+        assert int(accel.stats()["extra"]["references"].split()[0]) > n, spec
+        assert np.array_equal(accel.count_intersections(rays), want), spec
+        got, ref = accel.list_intersections(rays), brute.list_intersections(rays)
+        assert np.array_equal(got["ray_splits"], ref["ray_splits"]), spec
+        assert np.allclose(got["t_hit"], ref["t_hit"], rtol=1e-5, atol=0), spec
 
 
 def test_closest_points_on_the_cube(cube_accel):

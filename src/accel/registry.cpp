@@ -3,6 +3,7 @@
 #include "thicket/accel/registry.h"
 
 #include <chrono>
+#include <cmath>
 #include <sstream>
 
 #include "accel/dispatch.h"
@@ -69,6 +70,18 @@ bool parse_long(const std::string& s, long& out) {
     return pos == s.size();
 }
 
+/// A finite real number spelled entirely by `s` (strtod's syntax: 0.3, 1e-5).
+bool parse_real(const std::string& s, double& out) {
+    if (s.empty()) return false;
+    size_t pos = 0;
+    try {
+        out = std::stod(s, &pos);
+    } catch (const std::exception&) {
+        return false;
+    }
+    return pos == s.size() && std::isfinite(out);
+}
+
 }  // namespace
 
 const std::vector<AccelInfo>& accel_registry() {
@@ -91,6 +104,12 @@ const std::string& AccelSpec::get(const std::string& key) const {
 long AccelSpec::get_int(const std::string& key) const {
     long v = 0;
     if (!parse_long(get(key), v)) throw Error(name + ": option " + key + "=" + get(key) + " is not an integer");
+    return v;
+}
+
+double AccelSpec::get_real(const std::string& key) const {
+    double v = 0;
+    if (!parse_real(get(key), v)) throw Error(name + ": option " + key + "=" + get(key) + " is not a number");
     return v;
 }
 
@@ -149,6 +168,13 @@ AccelSpec parse_accel_spec(std::string_view text) {
             if (!ok)
                 throw Error(spec.name + ": " + key + "=" + value + " is not allowed; choose one of " +
                             join(opt->choices));
+        } else if (opt->real) {
+            double v = 0;
+            if (!parse_real(value, v) || v < opt->real_min || v > opt->real_max) {
+                std::ostringstream range;
+                range << "[" << opt->real_min << ", " << opt->real_max << "]";
+                throw Error(spec.name + ": " + key + "=" + value + " must be a number in " + range.str());
+            }
         } else {
             long v = 0;
             if (!parse_long(value, v) || v < opt->min || v > opt->max)
@@ -193,7 +219,9 @@ std::string describe_accels() {
         out << "\n" << info.name << " - " << info.summary << "\n";
         for (const OptionInfo& o : info.options) {
             out << "  " << o.key << "=";
-            if (o.choices.empty())
+            if (o.real)
+                out << "<number " << o.real_min << ".." << o.real_max << ">";
+            else if (o.choices.empty())
                 out << "<integer " << o.min << ".." << o.max << ">";
             else
                 out << join(o.choices, "|");

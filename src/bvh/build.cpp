@@ -6,8 +6,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 
+#include "coverage.h"
 #include "splitter.h"
 #include "thicket/bvh/reinsertion.h"
 #include "thicket/core/error.h"
@@ -61,6 +63,7 @@ std::unique_ptr<Splitter> make_splitter(BuildContext& ctx) {
     case BvhBuilder::BinnedSah: return make_binned_sah_splitter(ctx);
     case BvhBuilder::SweepSah: return make_sweep_sah_splitter(ctx);
     case BvhBuilder::Lbvh: return make_lbvh_splitter(ctx);
+    case BvhBuilder::Sbvh: break;  // build_bvh calls build_sbvh instead
     }
     throw Error("unknown BVH builder");
 }
@@ -178,6 +181,12 @@ BvhData build_bvh(const BuildPrimitives& prims, const BvhBuildOptions& options) 
     if (prims.bounds.size() != prims.centroids.size()) throw Error("build_bvh: bounds and centroids differ in size");
     if (prims.bounds.size() >= (1ull << 31)) throw Error("build_bvh: more than 2^31 primitives");
     const uint32_t n = uint32_t(prims.bounds.size());
+    if (options.builder == BvhBuilder::Sbvh) {
+        BvhData bvh = build_sbvh(prims, options);
+        compute_child_order(bvh);
+        if (options.optimize == BvhOptimize::Reinsertion) optimize_reinsertion(bvh, options.optimize_passes);
+        return bvh;
+    }
     BvhData bvh;
     bvh.prim_indices.resize(n);
     std::iota(bvh.prim_indices.begin(), bvh.prim_indices.end(), 0u);
@@ -251,6 +260,12 @@ BvhData build_bvh(const BuildPrimitives& prims, const BvhBuildOptions& options) 
     return bvh;
 }
 
+std::string reference_figure(size_t references, size_t primitives) {
+    char per[32];
+    std::snprintf(per, sizeof per, "%.2f", primitives ? double(references) / double(primitives) : 0.0);
+    return std::to_string(references) + " (" + per + " per primitive)";
+}
+
 BvhFigures bvh_figures(const BvhData& bvh) {
     if (bvh.nodes_used == 0) return {};
     auto expand = [&](const TreeWalkItem& item, double, auto push) -> std::optional<size_t> {
@@ -265,37 +280,41 @@ BvhFigures bvh_figures(const BvhData& bvh) {
 
 void validate_bvh(const BvhData& bvh, size_t primitive_count) {
     const size_t n = primitive_count;
-    if (bvh.prim_indices.size() != n)
-        throw Error("invalid BVH: " + std::to_string(bvh.prim_indices.size()) + " primitive indices for " +
-                    std::to_string(n) + " primitives");
+    const size_t entries = bvh.prim_indices.size();
+    // More entries than primitives: a spatial-split tree (sbvh) lists some in several leaves.
+    if (entries < n || entries > size_t(kMaxReferencesPerPrimitive) * n)
+        throw Error("invalid BVH: " + std::to_string(entries) + " primitive indices for " + std::to_string(n) +
+                    " primitives");
     if (n == 0) {
         if (bvh.nodes_used != 0) throw Error("invalid BVH: nodes in a BVH over no primitives");
         return;
     }
-    if (bvh.nodes_used < 2 || bvh.nodes_used > 2 * n || bvh.nodes.size() < bvh.nodes_used ||
+    if (bvh.nodes_used < 2 || bvh.nodes_used > 2 * entries || bvh.nodes.size() < bvh.nodes_used ||
         bvh.child_order.size() < bvh.nodes_used)
-        throw Error("invalid BVH: " + std::to_string(bvh.nodes_used) + " nodes in use for " + std::to_string(n) +
-                    " primitives");
+        throw Error("invalid BVH: " + std::to_string(bvh.nodes_used) + " nodes in use for " + std::to_string(entries) +
+                    " primitive indices");
     std::vector<uint8_t> referenced(n, 0);
     for (uint32_t idx : bvh.prim_indices) {
-        if (idx >= n || referenced[idx]) throw Error("invalid BVH: primitive index array is not a permutation");
+        if (idx >= n) throw Error("invalid BVH: primitive index " + std::to_string(idx) + " out of range");
         referenced[idx] = 1;
     }
+    for (size_t p = 0; p < n; ++p)
+        if (!referenced[p]) throw Error("invalid BVH: primitive " + std::to_string(p) + " is in no leaf");
     struct Item {
         uint32_t node, depth;
     };
     std::vector<Item> stack{{0, 0}};
     size_t covered = 0;
     // Leaves must partition the index array: a leaf pointed at another's entries (a fuzzed file
-    // did this) still covers n entries in total, but leaves primitives unreachable.
-    std::vector<uint8_t> entry_seen(n, 0);
+    // did this) still covers every entry in total, but leaves primitives unreachable.
+    std::vector<uint8_t> entry_seen(entries, 0);
     while (!stack.empty()) {
         const auto [i, depth] = stack.back();
         stack.pop_back();
         const BvhNode& node = bvh.nodes[i];
         if (depth > kMaxDepth) throw Error("invalid BVH: deeper than " + std::to_string(kMaxDepth));
         if (node.is_leaf()) {
-            if (uint64_t(node.leftFirst) + node.count > n)
+            if (uint64_t(node.leftFirst) + node.count > entries)
                 throw Error("invalid BVH: leaf " + std::to_string(i) + " references primitives out of range");
             for (uint32_t e = node.leftFirst; e < node.leftFirst + node.count; ++e)
                 if (entry_seen[e]++) throw Error("invalid BVH: leaves overlap at primitive entry " + std::to_string(e));
@@ -308,8 +327,8 @@ void validate_bvh(const BvhData& bvh, size_t primitive_count) {
             stack.push_back({node.leftFirst + 1, depth + 1});
         }
     }
-    if (covered != n) throw Error("invalid BVH: leaves reference " + std::to_string(covered) + " of " +
-                                  std::to_string(n) + " primitives");
+    if (covered != entries) throw Error("invalid BVH: leaves reference " + std::to_string(covered) + " of " +
+                                        std::to_string(entries) + " primitive entries");
 }
 
 namespace {
@@ -324,10 +343,13 @@ bool sticks_out(const Aabb& inner, const Aabb& outer) {
 
 }  // namespace
 
-void validate_bvh_bounds(const BvhData& bvh, std::span<const Aabb> prim_bounds) {
+void validate_bvh_bounds(const BvhData& bvh, std::span<const Aabb> prim_bounds, const ClipFunction& clip) {
     if (bvh.nodes_used == 0) return;
+    // Every leaf that lists each primitive (compressed rows: leaves_of[first_of[p] .. first_of[p+1])).
+    const size_t n = prim_bounds.size();
+    std::vector<uint32_t> first_of(n + 1, 0), leaves_of(bvh.prim_indices.size());
     // Only the nodes traversal reaches (validate_bvh proved this walk stays in range).
-    std::vector<uint32_t> stack{0};
+    std::vector<uint32_t> stack{0}, leaves;
     while (!stack.empty()) {
         const uint32_t i = stack.back();
         stack.pop_back();
@@ -337,10 +359,8 @@ void validate_bvh_bounds(const BvhData& bvh, std::span<const Aabb> prim_bounds) 
             if (std::isnan(box.min[a]) || std::isnan(box.max[a]))
                 throw Error("invalid BVH: node " + std::to_string(i) + " has a NaN box");
         if (node.is_leaf()) {
-            for (uint32_t k = node.leftFirst; k < node.leftFirst + node.count; ++k)
-                if (sticks_out(prim_bounds[bvh.prim_indices[k]], box))
-                    throw Error("invalid BVH: leaf " + std::to_string(i) + "'s box does not contain primitive " +
-                                std::to_string(bvh.prim_indices[k]));
+            leaves.push_back(i);
+            for (uint32_t k = node.leftFirst; k < node.leftFirst + node.count; ++k) ++first_of[bvh.prim_indices[k] + 1];
             continue;
         }
         const uint8_t order = bvh.child_order[i];
@@ -352,6 +372,28 @@ void validate_bvh_bounds(const BvhData& bvh, std::span<const Aabb> prim_bounds) 
                             std::to_string(c));
             stack.push_back(c);
         }
+    }
+    for (size_t p = 0; p < n; ++p) first_of[p + 1] += first_of[p];
+    std::vector<uint32_t> fill(first_of.begin(), first_of.end() - 1);
+    for (uint32_t leaf : leaves) {
+        const BvhNode& node = bvh.nodes[leaf];
+        for (uint32_t k = node.leftFirst; k < node.leftFirst + node.count; ++k)
+            leaves_of[fill[bvh.prim_indices[k]]++] = leaf;
+    }
+    CoverageProof proof(prim_bounds, clip);
+    std::vector<Aabb> boxes;
+    for (uint32_t p = 0; p < n; ++p) {
+        const uint32_t first = first_of[p], count = first_of[p + 1] - first;
+        if (count == 1) {  // the common case, and every primitive of an object-partition tree
+            const uint32_t leaf = leaves_of[first];
+            if (sticks_out(prim_bounds[p], bvh.nodes[leaf].bounds()))
+                throw Error("invalid BVH: leaf " + std::to_string(leaf) + "'s box does not contain primitive " +
+                            std::to_string(p));
+            continue;
+        }
+        boxes.clear();
+        for (uint32_t k = first; k < first + count; ++k) boxes.push_back(bvh.nodes[leaves_of[k]].bounds());
+        proof.check(p, boxes);
     }
 }
 

@@ -11,13 +11,48 @@ inline constexpr Choice<BvhBuilder> kBvhBuilders[] = {
     {"binned-sah", BvhBuilder::BinnedSah},
     {"sweep-sah", BvhBuilder::SweepSah},
     {"lbvh", BvhBuilder::Lbvh},
+    {"sbvh", BvhBuilder::Sbvh},
 };
+
+/// The builders whose leaves list each primitive once (all but sbvh): for structures that refit
+/// one box per primitive set (obb) and need the index array to be a permutation.
+inline constexpr Choice<BvhBuilder> kObjectBvhBuilders[] = {
+    {"midpoint", BvhBuilder::Midpoint},
+    {"binned-sah", BvhBuilder::BinnedSah},
+    {"sweep-sah", BvhBuilder::SweepSah},
+    {"lbvh", BvhBuilder::Lbvh},
+};
+
+/// The help of the `builder` option of the structures that take every builder.
+inline constexpr const char* kBvhBuilderHelp =
+    "split choice: longest-axis midpoint, binned SAH (Wald 2007), a full SAH sweep, the linear Morton-order builder "
+    "(Karras 2012: fastest build, looser tree), or sbvh: spatial splits (Stich et al. 2009: SAH object splits against "
+    "binned planes that cut the triangles straddling them, clipped exactly; a triangle may then sit in several "
+    "leaves; alpha and budget below; one thread, the same tree on any)";
 
 /// The optimizers a built tree can be given (`optimize=`), shared likewise.
 inline constexpr Choice<BvhOptimize> kBvhOptimizers[] = {
     {"none", BvhOptimize::None},
     {"reinsertion", BvhOptimize::Reinsertion},
 };
+
+/// The `alpha` and `budget` options of builder=sbvh, shared by every structure that offers it.
+inline std::vector<OptionInfo> sbvh_options() {
+    return {real_option("alpha",
+                        "builder=sbvh: spatial splits are tried only where the best object split's children overlap "
+                        "by more than alpha times the root's surface area (Stich et al.'s alpha; 0: everywhere)",
+                        "1e-3", 0.0, 1.0),
+            real_option("budget",
+                        "builder=sbvh: reference growth allowed, at most (1 + budget) N references in all, shared "
+                        "down the tree in proportion to the nodes' references; 0: no spatial split",
+                        "0.3", 0.0, double(kMaxReferencesPerPrimitive - 1))};
+}
+
+/// Reads the sbvh options into `o`.
+inline void read_sbvh_options(const AccelSpec& spec, BvhBuildOptions& o) {
+    o.sbvh_alpha = spec.get_real("alpha");
+    o.sbvh_budget = spec.get_real("budget");
+}
 
 /// The `optimize` and `passes` options of every structure built on the binary BVH.
 inline std::vector<OptionInfo> bvh_optimize_options() {

@@ -19,23 +19,26 @@ void write_bvh(std::ostream& out, const BvhData& bvh) {
 
 BvhData read_bvh(std::istream& in, size_t primitive_count) {
     PayloadReader reader(in, "BVH");
-    uint32_t nodes_used = 0, prims = 0;
+    uint32_t nodes_used = 0, entries = 0;
     reader.value(nodes_used, "node count");
-    reader.value(prims, "primitive count");
-    if (prims != primitive_count)
-        throw Error("BVH payload holds " + std::to_string(prims) + " primitives, the scene " +
-                    std::to_string(primitive_count));
-    if (nodes_used > 2 * size_t(prims))
-        throw Error("BVH payload claims " + std::to_string(nodes_used) + " nodes for " + std::to_string(prims) +
-                    " primitives");
+    // The index array's length: the primitive count, or more for a spatial-split tree (sbvh),
+    // whose leaves list some primitives more than once.
+    reader.value(entries, "primitive index count");
+    if (entries < primitive_count || entries > uint64_t(kMaxReferencesPerPrimitive) * primitive_count)
+        throw Error("BVH payload holds " + std::to_string(entries) + " primitive indices, the scene " +
+                    std::to_string(primitive_count) + " primitives (at most " +
+                    std::to_string(kMaxReferencesPerPrimitive) + " indices per primitive)");
+    if (nodes_used > 2 * size_t(entries))
+        throw Error("BVH payload claims " + std::to_string(nodes_used) + " nodes for " + std::to_string(entries) +
+                    " primitive indices");
     BvhData bvh;
     bvh.nodes_used = nodes_used;
     bvh.nodes.resize(nodes_used);
     bvh.child_order.resize(nodes_used);
-    bvh.prim_indices.resize(prims);
+    bvh.prim_indices.resize(entries);
     reader.array(bvh.nodes.data(), nodes_used, "nodes");
     reader.array(bvh.child_order.data(), nodes_used, "child order");
-    reader.array(bvh.prim_indices.data(), prims, "primitive indices");
+    reader.array(bvh.prim_indices.data(), entries, "primitive indices");
     if (in.peek() != std::char_traits<char>::eof()) throw Error("BVH payload has trailing bytes");
     validate_bvh(bvh, primitive_count);
     return bvh;

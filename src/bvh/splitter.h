@@ -184,4 +184,9 @@ std::unique_ptr<Splitter> make_binned_sah_splitter(BuildContext& ctx);
 std::unique_ptr<Splitter> make_sweep_sah_splitter(BuildContext& ctx);
 std::unique_ptr<Splitter> make_lbvh_splitter(BuildContext& ctx);
 
+/// The spatial-split builder (sbvh_builder.cpp): not a Splitter, since its nodes' references are
+/// not ranges of one permutation (a primitive may sit in several leaves). One thread, the same
+/// tree for any options.threads; child-order centroid bits and optimizers are applied after.
+BvhData build_sbvh(const BuildPrimitives& prims, const BvhBuildOptions& options);
+
 }  // namespace thicket::bvh_build

@@ -31,7 +31,7 @@ constexpr const char* kDefaultBins = "16";
 void apply_quality(AccelSpec& spec) {
     const Quality q = spec.choice("quality", kQualities);
     if (q == Quality::Custom) return;
-    const std::string builder = q == Quality::Low ? "lbvh" : q == Quality::Medium ? "binned-sah" : "sweep-sah";
+    const std::string builder = q == Quality::Low ? "lbvh" : q == Quality::Medium ? "binned-sah" : "sbvh";
     const std::string bins = kDefaultBins;
     const std::string optimize = q == Quality::High ? "reinsertion" : "none";
     for (const auto& [key, default_value] : {std::pair<std::string, std::string>{"builder", kDefaultBuilder},
@@ -55,6 +55,7 @@ Bvh8Options bvh8_options(AccelSpec spec) {
     o.binary.threads = spec.threads;
     o.binary.optimize = spec.choice("optimize", kBvhOptimizers);
     o.binary.optimize_passes = int(spec.get_int("passes"));
+    read_sbvh_options(spec, o.binary);
     o.merge_below = uint32_t(spec.get_int("leaf-merge"));
     o.isa = bvh8::resolve_isa(std::string(spec.choice("isa", kIsas)));
     o.packets = spec.choice("packets", kOnOff);
@@ -74,9 +75,9 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
         {"bins", "bins per axis for binned-sah", kDefaultBins, {}, 2, 256},
         choice_option("quality",
                       "builder preset: low = builder=lbvh (fastest build), medium = builder=binned-sah,bins=16 "
-                      "(parallel binned SAH), high = builder=sweep-sah,optimize=reinsertion (full SAH sweep, then "
-                      "reinsertion); custom = the builder, bins and optimize keys as given (a preset with another "
-                      "value of one of them is an error)",
+                      "(parallel binned SAH), high = builder=sbvh,optimize=reinsertion (spatial splits, then "
+                      "reinsertion; alpha and budget apply); custom = the builder, bins and optimize keys as given "
+                      "(a preset with another value of one of them is an error)",
                       Quality::Custom, kQualities),
         {"max-leaf", "largest binary leaf (one 4-triangle block per 4)", "4", {}, 1, 255},
         {"leaf-merge",
@@ -92,6 +93,7 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
                       "bench's primary set) are traced 16 rays at a time through the packet kernels; same answers",
                       true, kOnOff),
     };
+    for (OptionInfo& o : sbvh_options()) info.options.push_back(std::move(o));
     for (OptionInfo& o : bvh_optimize_options()) info.options.push_back(std::move(o));
     for (bvh8::Isa isa : bvh8::cpu_isas()) {
         const std::string level = bvh8::isa_name(isa);

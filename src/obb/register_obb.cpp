@@ -11,7 +11,7 @@ constexpr Choice<ObbFit> kFits[] = {{"pca", ObbFit::Pca}, {"axes", ObbFit::Axes}
 /// The build options a parsed spec asks for.
 ObbBuildOptions build_options(const AccelSpec& spec) {
     ObbBuildOptions o;
-    o.bvh.builder = spec.choice("builder", kBvhBuilders);
+    o.bvh.builder = spec.choice("builder", kObjectBvhBuilders);
     o.bvh.max_leaf = int(spec.get_int("max-leaf"));
     o.bvh.threads = spec.threads;
     o.bvh.optimize = spec.choice("optimize", kBvhOptimizers);
@@ -29,8 +29,8 @@ void register_obb(std::vector<AccelInfo>& registry) {
     info.summary = "oriented bounding box tree (Rubin & Whitted 1980): a bvh's topology, every node refitted as a "
                    "rotated box (68-byte nodes), the ray moved into each box's frame";
     info.options = {
-        choice_option("builder", "the bvh builder whose tree is refitted (see bvh)", BvhBuilder::BinnedSah,
-                      kBvhBuilders),
+        choice_option("builder", "the bvh builder whose tree is refitted (see bvh; not sbvh: one box per primitive set)",
+                      BvhBuilder::BinnedSah, kObjectBvhBuilders),
         {"max-leaf", "largest leaf of the bvh tree", "8", {}, 1, 255},
         choice_option("fit",
                       "orientation of each box: pca (principal axes of the node's points, or the world axes where "

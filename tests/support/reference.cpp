@@ -145,11 +145,21 @@ std::string describe(const Hit& h) {
 
 }  // namespace
 
-std::string compare_with_reference(const Accel& accel, const Reference& ref, const std::string& scene_name) {
-    // `mailbox=off` means what it says: a primitive in several cells is tested once per cell.
+size_t most_tests_per_query(const Accel& accel, size_t primitives) {
     const AccelSpec spec = parse_accel_spec(accel.spec());
-    const bool repeats_tests = spec.options.count("mailbox") && spec.get("mailbox") == "off";
-    const size_t most_tests = repeats_tests ? SIZE_MAX : ref.probe->size();
+    // `mailbox=off` means what it says: a primitive in several cells is tested once per cell.
+    if (spec.options.count("mailbox") && spec.get("mailbox") == "off") return SIZE_MAX;
+    const bool spatial_splits =
+        (spec.name == "bvh" || spec.name == "bvh8") &&
+        (spec.get("builder") == "sbvh" || (spec.options.count("quality") && spec.get("quality") == "high"));
+    if (!spatial_splits) return primitives;
+    for (const auto& [key, value] : accel.stats().extra)
+        if (key == "references") return std::max<size_t>(primitives, std::stoull(value));
+    throw Error(accel.spec() + ": a spatial-split BVH without a 'references' figure");
+}
+
+std::string compare_with_reference(const Accel& accel, const Reference& ref, const std::string& scene_name) {
+    const size_t most_tests = most_tests_per_query(accel, ref.probe->size());
     // The batch queries: rays grouped by direction octant and marked coherent, so that packet
     // kernels (bvh8) get whole packets of them; answers must be the per-ray ones.
     const size_t n = ref.rays.size();

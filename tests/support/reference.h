@@ -35,6 +35,14 @@ const Reference& reference_for(const std::string& key, const Scene& scene, const
 /// "" when it agrees everywhere, else a description of the first few disagreements.
 std::string compare_with_reference(const Accel& accel, const Reference& ref, const std::string& scene_name);
 
+/// Most primitive tests one query may make on `accel` over a scene of `primitives`: each
+/// primitive once, since structures whose cells share primitives keep a mailbox; except
+/// `mailbox=off`, whose point is repeated tests (no bound), and spatial-split BVHs (`bvh` and
+/// `bvh8` with builder=sbvh, `bvh8:quality=high`), which list a triangle in several leaves with
+/// no mailbox (a per-ray mailbox would cost every ray for the few that reach two leaves of one
+/// triangle): at most once per reference they hold (their `references` figure).
+size_t most_tests_per_query(const Accel& accel, size_t primitives);
+
 /// Whether stats that leave sah_cost at 0 (undefined) say why under kSahUndefinedKey.
 bool sah_cost_explained(const AccelStats& stats);
 

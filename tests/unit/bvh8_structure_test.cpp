@@ -174,7 +174,7 @@ TEST(Bvh8Quality, PresetsBuildTheTreesOfTheSettingsTheyStandFor) {
     };
     same_tree("quality=low", "builder=lbvh");
     same_tree("quality=medium", "builder=binned-sah,bins=16");
-    same_tree("quality=high", "builder=sweep-sah,optimize=reinsertion");
+    same_tree("quality=high", "builder=sbvh,optimize=reinsertion");
     // The presets differ from each other (else the mapping above would prove nothing).
     EXPECT_NE(build_accel("bvh8:quality=low", scene)->stats().sah_cost,
               build_accel("bvh8:quality=high", scene)->stats().sah_cost);

@@ -95,7 +95,7 @@ TEST(DeepBuild, ADeepTreeTakesNoMoreCStackThanABalancedOne) {
         {"kdtree:builder=median", 16},     {"bih", 40},
         {"octree:max-depth=16", 16},       {"bvh:builder=midpoint,max-leaf=1", 40},
         {"bvh:builder=binned-sah,max-leaf=1", 40}, {"bvh:builder=sweep-sah,max-leaf=1", 40},
-        {"bvh:builder=lbvh,max-leaf=1", 20}};
+        {"bvh:builder=lbvh,max-leaf=1", 20}, {"bvh:builder=sbvh,max-leaf=1", 40}};
     for (const auto& [spec_binding, min_depth] : specs) {
         const auto& spec = spec_binding;  // lambdas may not capture a structured binding before clang 16
         size_t deep_depth = 0, balanced_depth = 0;

@@ -15,16 +15,28 @@
 
 namespace thicket {
 
-/// One named option of a structure: either one of `choices`, or an integer in [min, max].
+/// One named option of a structure: either one of `choices`, an integer in [min, max], or (when
+/// `real`, made with real_option()) a real number in [real_min, real_max].
 /// Choice options are best made with choice_option() from the same table the builder reads the
 /// value with (AccelSpec::choice), so the listing, the parser and the builder cannot disagree.
 struct OptionInfo {
     std::string key;
     std::string help;
     std::string default_value;
-    std::vector<std::string> choices;  ///< empty: an integer option
+    std::vector<std::string> choices;  ///< empty: an integer (or real) option
     long min = 0, max = 0;
+    bool real = false;                 ///< a real number (AccelSpec::get_real), not an integer
+    double real_min = 0.0, real_max = 0.0;
 };
+
+/// The OptionInfo of a real-valued option in [lo, hi] (written as C's strtod reads it: 0.3, 1e-5).
+inline OptionInfo real_option(std::string key, std::string help, std::string fallback, double lo, double hi) {
+    OptionInfo o{std::move(key), std::move(help), std::move(fallback), {}, 0, 0};
+    o.real = true;
+    o.real_min = lo;
+    o.real_max = hi;
+    return o;
+}
 
 /// One allowed value of a choice option: its spelling in a spec and the value it stands for.
 /// A structure declares each choice option as one array of these, e.g.
@@ -57,6 +69,8 @@ struct AccelSpec {
 
     const std::string& get(const std::string& key) const;
     long get_int(const std::string& key) const;
+    /// The value of a real option (real_option()); the parser has checked its range.
+    double get_real(const std::string& key) const;
     /// The value `table` gives option `key`. Throws Error listing the table's names when the
     /// option holds anything else: no value silently becomes a default.
     template <class T, size_t N>
@@ -78,7 +92,8 @@ private:
 };
 
 /// How a structure divides the scene (the lecture's comparison table, `thicket compare`):
-/// Object: primitives into groups whose bounds may overlap, each primitive in one leaf (BVH, BIH);
+/// Object: primitives into groups whose bounds may overlap, each primitive in one leaf (BVH, BIH;
+/// a BVH with spatial splits, builder=sbvh, still counts: it cuts only where boxes overlap);
 /// Space: space into disjoint cells, a primitive referenced by every cell it overlaps (grid,
 /// octree, kD-tree, BSP); None: no division at all (brute force). Unknown: not declared.
 enum class Partitioning { Unknown, None, Object, Space };

@@ -1,6 +1,7 @@
 #pragma once
 /// BVH construction: a top-down skeleton shared by every builder, each builder choosing splits.
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -30,7 +31,7 @@ void primitive_boxes(uint32_t count, unsigned threads, std::vector<Aabb>& bounds
     });
 }
 
-enum class BvhBuilder { Midpoint, BinnedSah, SweepSah, Lbvh };
+enum class BvhBuilder { Midpoint, BinnedSah, SweepSah, Lbvh, Sbvh };
 enum class BvhOptimize { None, Reinsertion };
 
 struct BvhBuildOptions {
@@ -42,13 +43,30 @@ struct BvhBuildOptions {
     unsigned threads = 0;
     BvhOptimize optimize = BvhOptimize::None;  ///< applied to the built tree (optimize_reinsertion)
     int optimize_passes = 3;                   ///< the optimizer's budget: passes at most
+    /// sbvh: spatial splits are tried only where the best object split's children overlap by more
+    /// than this fraction of the root's surface area (Stich et al. 2009's alpha).
+    double sbvh_alpha = 1e-3;
+    /// sbvh: at most (1 + budget) * N references in all (each spatial split adds the references it
+    /// cuts in two); 0 makes no spatial split.
+    double sbvh_budget = 0.3;
 };
 
-/// What builders see of the primitives: bounds and centroids, nothing else.
+/// Bounds of the part of primitive `prim` inside `box` (clipped_bounds() of the primitive set).
+using ClipFunction = std::function<Aabb(uint32_t prim, const Aabb& box)>;
+
+/// What builders see of the primitives: bounds and centroids, and for spatial splits (sbvh) the
+/// bounds of a primitive's part inside a box.
 struct BuildPrimitives {
     std::span<const Aabb> bounds;
     std::span<const Vec3> centroids;
+    /// Empty: bounds intersected with the box (conservative; spatial splits then cut boxes, not
+    /// primitives).
+    ClipFunction clip = {};
 };
+
+/// Most references a BVH may hold per primitive (a loaded file claiming more is refused): sbvh's
+/// budget is at most kMaxReferencesPerPrimitive - 1.
+inline constexpr uint32_t kMaxReferencesPerPrimitive = 5;
 
 /// Builds a BVH over the primitives. Leaves are made when the SAH says splitting costs more
 /// (kSahTraversalCost, kSahIntersectionCost) and the node holds at most max_leaf primitives.
@@ -57,17 +75,26 @@ struct BuildPrimitives {
 /// top nodes in depth-first order of their roots, so the layout never depends on the threads.
 BvhData build_bvh(const BuildPrimitives& prims, const BvhBuildOptions& options);
 
+/// "R (x.xx per primitive)": the `references` figure of the stats of structures built on the
+/// binary BVH (above 1.00 per primitive only with spatial splits, builder=sbvh).
+std::string reference_figure(size_t references, size_t primitives);
+
 /// Figures of a built BVH (node boxes as stored).
 using BvhFigures = TreeFigures;
 BvhFigures bvh_figures(const BvhData& bvh);
 
 /// Checks the structural invariants (indices in range, children after parents, depth bounded,
-/// every primitive referenced once); throws Error describing the first violation.
+/// leaves partitioning the index array, every primitive referenced at least once and at most
+/// kMaxReferencesPerPrimitive times per primitive on average); throws Error describing the first
+/// violation. Only a spatial-split build (sbvh) references a primitive more than once.
 void validate_bvh(const BvhData& bvh, size_t primitive_count);
-/// What traversal relies on beyond structure (call after validate_bvh): every leaf box contains
-/// its primitives' bounds, every interior box its children's, every child-order byte names real
-/// axes. With these, culling a node whose box the ray misses never loses a hit.
-void validate_bvh_bounds(const BvhData& bvh, std::span<const Aabb> prim_bounds);
+/// What traversal relies on beyond structure (call after validate_bvh): every interior box
+/// contains its children's, every child-order byte names real axes, and every primitive is
+/// covered by the leaves listing it: a primitive listed once lies in its leaf's box; one listed
+/// in several leaves (spatial splits) has every part of it in one of their boxes, proved by
+/// cutting it along those boxes' faces with `clip` (empty: bounds intersected with the box).
+/// With these, culling a node whose box the ray misses never loses a hit.
+void validate_bvh_bounds(const BvhData& bvh, std::span<const Aabb> prim_bounds, const ClipFunction& clip = {});
 
 /// Payload I/O for save_accel/load_accel; read_bvh validates before returning.
 void write_bvh(std::ostream& out, const BvhData& bvh);

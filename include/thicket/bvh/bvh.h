@@ -21,7 +21,7 @@ public:
         primitive_boxes(
             uint32_t(prims_.size()), options.threads, bounds, centroids,
             [&](uint32_t i) { return prims_.bounds(i); }, [&](uint32_t i) { return prims_.centroid(i); });
-        data_ = build_bvh({bounds, centroids}, options);
+        data_ = build_bvh({bounds, centroids, clip_function()}, options);
     }
 
     /// Adopts an already built (e.g. loaded) BVH after checking it fits `prims`.
@@ -30,7 +30,7 @@ public:
         validate_bvh(data_, prims_.size());
         std::vector<Aabb> bounds(prims_.size());
         for (uint32_t i = 0; i < prims_.size(); ++i) bounds[i] = prims_.bounds(i);
-        validate_bvh_bounds(data_, bounds);
+        validate_bvh_bounds(data_, bounds, clip_function());
     }
 
     Aabb bounds() const override { return data_.nodes_used ? data_.nodes[0].bounds() : Aabb{}; }
@@ -59,6 +59,8 @@ public:
             size_t(data_.nodes_used) * (sizeof(BvhNode) + 1) + data_.prim_indices.size() * sizeof(uint32_t),
             prims_.bytes());
         s.extra.emplace_back("largest leaf", std::to_string(f.max_leaf_size));
+        // More references than primitives: spatial splits (builder=sbvh) list some in several leaves.
+        s.extra.emplace_back("references", reference_figure(data_.prim_indices.size(), prims_.size()));
         s.extra.emplace_back("node pool", std::to_string(data_.nodes.size()) + " nodes allocated, " +
                                               std::to_string(data_.nodes_used) + " used (slot 1 unused)");
         return s;
@@ -70,6 +72,11 @@ public:
     const Prims& primitives() const { return prims_; }
 
 private:
+    /// The exact clip of the primitive set (clipped_bounds: triangles clipped, shapes' boxes cut).
+    ClipFunction clip_function() const {
+        return [this](uint32_t i, const Aabb& box) { return clipped_bounds(prims_, i, box); };
+    }
+
     Prims prims_;
     BvhData data_;
     BvhTraversal traversal_;

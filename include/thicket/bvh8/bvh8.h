@@ -60,10 +60,18 @@ public:
         primitive_boxes(
             uint32_t(prims_.size()), options.binary.threads, bounds, centroids,
             [&](uint32_t i) { return prims_.bounds(i); }, [&](uint32_t i) { return prims_.centroid(i); });
-        const BvhData binary = build_bvh({bounds, centroids}, options.binary);
+        const BvhData binary = build_bvh(
+            {bounds, centroids, [this](uint32_t i, const Aabb& box) { return clipped_bounds(prims_, i, box); }},
+            options.binary);
+        references_ = binary.prim_indices.size();
         if constexpr (bvh8::kIsTriangles<Prims>) {
-            // Every block holds at least one triangle: never reallocated during the collapse.
-            blocks_.reserve(prims_.size());
+            for (uint32_t i = 0; i < prims_.size(); ++i) {
+                const auto v = prims_.triangle(i);
+                dropped_ += Prims::degenerate({v[0], v[1], v[2]}) ? 1 : 0;
+            }
+            // Every block holds at least one triangle: never reallocated during the collapse. One
+            // per reference, not per triangle: spatial splits (sbvh) list a triangle in several leaves.
+            blocks_.reserve(binary.prim_indices.size());
             tree_ = bvh8::collapse(
                 binary,
                 [&](uint32_t first, uint32_t count) { return emit_blocks(binary.prim_indices.data() + first, count); },
@@ -165,8 +173,10 @@ public:
             s.extra.emplace_back("4-triangle blocks", std::to_string(blocks_.size()) + " (" +
                                                           std::to_string(lanes ? 100 * kept_ / lanes : 0) +
                                                           "% of lanes used)");
-            s.extra.emplace_back("degenerate dropped", std::to_string(primitives_ - kept_));
+            s.extra.emplace_back("degenerate dropped", std::to_string(dropped_));
         }
+        // More references than primitives: spatial splits (builder=sbvh) list some in several leaves.
+        s.extra.emplace_back("references", reference_figure(references_, primitives_));
         return s;
     }
 
@@ -218,6 +228,9 @@ private:
         bvh8::LeafPlacement p{uint32_t(blocks_.size()), 0};
         uint32_t lane = 4;
         for (uint32_t k = 0; k < count; ++k) {
+            // A merged subtree (leaf-merge) may hold both parts of a triangle that a spatial split
+            // cut: one lane is enough. Only a tree with more references than triangles can.
+            if (references_ > primitives_ && std::find(prims, prims + k, prims[k]) != prims + k) continue;
             const auto v = prims_.triangle(prims[k]);
             if (Prims::degenerate({v[0], v[1], v[2]})) continue;
             if (lane == 4) {
@@ -292,7 +305,9 @@ private:
 
     Prims prims_;
     size_t primitives_ = 0;
-    size_t kept_ = 0;
+    size_t kept_ = 0;        ///< triangle lanes filled (a triangle once per leaf listing it)
+    size_t dropped_ = 0;     ///< degenerate triangles, never stored
+    size_t references_ = 0;  ///< entries of the binary tree's leaves
     bool packets_ = true;
     bvh8::Tree tree_;
     AlignedVector<bvh8::Tri4, 64> blocks_;
