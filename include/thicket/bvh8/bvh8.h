@@ -14,6 +14,7 @@
 #include "thicket/accel/accel.h"
 #include "thicket/bvh/build.h"
 #include "thicket/bvh8/build.h"
+#include "thicket/bvh8/closest_point.h"
 #include "thicket/bvh8/isa.h"
 #include "thicket/prims/primitive_set.h"
 #include "thicket/prims/triangles.h"
@@ -60,12 +61,16 @@ public:
         if constexpr (bvh8::kIsTriangles<Prims>) {
             // Every block holds at least one triangle: never reallocated during the collapse.
             blocks_.reserve(prims_.size());
+            std::vector<uint32_t> slivers;
             tree_ = bvh8::collapse(
                 binary,
-                [&](uint32_t first, uint32_t count) { return emit_blocks(binary.prim_indices.data() + first, count); },
+                [&](uint32_t first, uint32_t count) {
+                    return emit_blocks(blocks_, binary.prim_indices.data() + first, count, &slivers);
+                },
                 options.merge_below);
             bvh8::validate_tree(tree_, blocks_.size());
             blocks_.shrink_to_fit();  // the reservation above is one block per triangle: 4x the need
+            build_sliver_tree(slivers, options);
             prims_ = Prims();  // the blocks are the structure's only copy of the triangles
         } else {
             ids_ = binary.prim_indices;
@@ -75,6 +80,7 @@ public:
             bvh8::validate_tree(tree_, ids_.size());
         }
         ctx_ = {tree_.nodes.data(), blocks_.data(), ids_.data(), &prims_, &closest_leaf, &any_leaf};
+        sliver_ctx_ = {sliver_tree_.nodes.data(), sliver_blocks_.data(), nullptr, nullptr, nullptr, nullptr};
     }
     Bvh8(const Bvh8&) = delete;  // ctx_ points into this object
     Bvh8& operator=(const Bvh8&) = delete;
@@ -98,14 +104,28 @@ public:
             return kernels_->any[kLeafKind][0](ctx_, ray, nullptr);
     }
 
+    /// The closest point of the triangles to p through the per-ISA point traversal, degenerate
+    /// triangles included (their points are on the surface; rays never hit them); shapes: Error.
+    NearestPoint closest_point(const Vec3& p) const override {
+        if constexpr (bvh8::kIsTriangles<Prims>)
+            return bvh8::closest_point(*kernels_,
+                                       {tree_.nodes.empty() ? nullptr : &ctx_,
+                                        sliver_tree_.nodes.empty() ? nullptr : &sliver_ctx_},
+                                       p);
+        else
+            return Accel::closest_point(p);  // shapes: refused with the reason
+    }
+    bool has_closest_point() const override { return bvh8::kIsTriangles<Prims>; }
+
     AccelStats stats() const override {
         AccelStats s = this->base_stats();
         s.primitives = primitives_;
         s.nodes = tree_.nodes.size() + tree_.leaves;  // AccelStats counts leaves as nodes
         s.leaves = tree_.leaves;
         s.max_depth = tree_.max_depth;
-        s.bytes = tree_.nodes.size() * sizeof(bvh8::Node) + ids_.size() * sizeof(uint32_t);
-        s.primitive_bytes = bvh8::kIsTriangles<Prims> ? blocks_.size() * sizeof(bvh8::Tri4) : prims_.bytes();
+        s.bytes = (tree_.nodes.size() + sliver_tree_.nodes.size()) * sizeof(bvh8::Node) + ids_.size() * sizeof(uint32_t);
+        s.primitive_bytes = bvh8::kIsTriangles<Prims> ? (blocks_.size() + sliver_blocks_.size()) * sizeof(bvh8::Tri4)
+                                                      : prims_.bytes();
         s.sah_cost = tree_.sah_cost;
         s.extra.emplace_back("isa", kernels_->isa);
         s.extra.emplace_back("8-wide nodes", std::to_string(tree_.nodes.size()));
@@ -123,6 +143,8 @@ public:
     const bvh8::Tree& tree() const { return tree_; }
     const bvh8::KernelTable& kernels() const { return *kernels_; }
     const AlignedVector<bvh8::Tri4, 64>& blocks() const { return blocks_; }
+    /// The degenerate triangles' blocks, searched by closest_point() only.
+    const AlignedVector<bvh8::Tri4, 64>& sliver_blocks() const { return sliver_blocks_; }
 
 protected:
     /// Coherent batches: each 16 consecutive rays that share a direction octant (and have no zero
@@ -160,17 +182,22 @@ private:
         return finite;
     }
 
-    /// Copies a leaf's non-degenerate triangles into 4-lane blocks (degenerate ones are never
-    /// hit: Triangles::plausible).
-    bvh8::LeafPlacement emit_blocks(const uint32_t* prims, uint32_t count) {
-        bvh8::LeafPlacement p{uint32_t(blocks_.size()), 0};
+    /// Copies a leaf's triangles into 4-lane blocks of `out`. With `slivers`, degenerate ones are
+    /// left out (they are never hit: Triangles::plausible) and their ids appended there instead;
+    /// without, every triangle is kept (the sliver tree).
+    bvh8::LeafPlacement emit_blocks(AlignedVector<bvh8::Tri4, 64>& out, const uint32_t* prims, uint32_t count,
+                                    std::vector<uint32_t>* slivers) {
+        bvh8::LeafPlacement p{uint32_t(out.size()), 0};
         uint32_t lane = 4;
         for (uint32_t k = 0; k < count; ++k) {
             const auto v = prims_.triangle(prims[k]);
-            if (Prims::degenerate({v[0], v[1], v[2]})) continue;
+            if (slivers && Prims::degenerate({v[0], v[1], v[2]})) {
+                slivers->push_back(prims[k]);
+                continue;
+            }
             if (lane == 4) {
-                blocks_.emplace_back();
-                bvh8::Tri4& b = blocks_.back();
+                out.emplace_back();
+                bvh8::Tri4& b = out.back();
                 for (auto& vertex : b.v)
                     for (auto& axis : vertex)
                         for (float& x : axis) x = 0.0f;
@@ -178,14 +205,37 @@ private:
                 lane = 0;
                 ++p.size;
             }
-            bvh8::Tri4& b = blocks_.back();
+            bvh8::Tri4& b = out.back();
             for (int vertex = 0; vertex < 3; ++vertex)
                 for (int a = 0; a < 3; ++a) b.v[vertex][a][lane] = v[size_t(vertex)][a];
             b.id[lane] = prims[k];
             ++lane;
-            ++kept_;
+            if (slivers) ++kept_;
         }
         return p;
+    }
+
+    /// Degenerate triangles have no interior for rays, but their points are on the surface and
+    /// brute force answers them as closest points: they get a tree of their own (usually empty or
+    /// tiny), which only the closest-point query searches, so the ray kernels never see them.
+    void build_sliver_tree(const std::vector<uint32_t>& slivers, const Bvh8Options& options) {
+        if (slivers.empty()) return;
+        std::vector<Aabb> bounds;
+        std::vector<Vec3> centroids;
+        primitive_boxes(
+            uint32_t(slivers.size()), options.binary.threads, bounds, centroids,
+            [&](uint32_t i) { return prims_.bounds(slivers[i]); }, [&](uint32_t i) { return prims_.centroid(slivers[i]); });
+        const BvhData binary = build_bvh({bounds, centroids}, options.binary);
+        std::vector<uint32_t> ids;
+        sliver_tree_ = bvh8::collapse(
+            binary,
+            [&](uint32_t first, uint32_t count) {
+                ids.clear();
+                for (uint32_t k = 0; k < count; ++k) ids.push_back(slivers[binary.prim_indices[first + k]]);
+                return emit_blocks(sliver_blocks_, ids.data(), count, nullptr);
+            },
+            options.merge_below);
+        bvh8::validate_tree(sliver_tree_, sliver_blocks_.size());
     }
 
     static bool closest_leaf(const void* prims, const uint32_t* ids, uint32_t count, const Ray& ray, Hit& hit) {
@@ -210,6 +260,9 @@ private:
     std::vector<uint32_t> ids_;
     const bvh8::KernelTable* kernels_;
     bvh8::TraceContext ctx_;
+    bvh8::Tree sliver_tree_;                       ///< degenerate triangles, for closest points only
+    AlignedVector<bvh8::Tri4, 64> sliver_blocks_;
+    bvh8::TraceContext sliver_ctx_;
 };
 
 }  // namespace thicket
