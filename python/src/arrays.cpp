@@ -91,4 +91,20 @@ RayBatch make_rays(const Rows& rows, float tnear, float tfar, unsigned threads) 
     return batch;
 }
 
+void fill_chunk(const Rows& rows, float tnear, float tfar, size_t begin, size_t end, RayChunk& chunk) {
+    static_assert(kBatchGrain <= 65536, "RayChunk::offset is 16 bits");
+    chunk.begin = begin;
+    chunk.end = end;
+    chunk.count = 0;
+    const float* data = rows.data();
+    const size_t width = rows.width;
+    for (size_t i = begin; i < end; ++i) {
+        const float* r = data + width * i;
+        float row[8] = {r[0], r[1], r[2], r[3], r[4], r[5], tnear, tfar};
+        if (width == 8) row[6] = r[6], row[7] = r[7];
+        if (!make_ray(row, chunk.rays[chunk.count])) continue;
+        chunk.offset[chunk.count++] = uint16_t(i - begin);
+    }
+}
+
 }  // namespace thicket::python

@@ -1,7 +1,9 @@
 #pragma once
 // The queries of thicket.Accel, numpy in and out, named and shaped as Open3D 0.16's
 // RaycastingScene answers them. Each releases the GIL while it converts and traces, and traces
-// through the library's batch API (all cores unless nthreads says otherwise).
+// through the library's batch API (all cores unless nthreads says otherwise), one chunk of
+// kBatchGrain rows at a time: each thread converts its chunk's rows, traces them and writes the
+// answers into the output arrays, so the module adds no pass over the batch of its own.
 #include <memory>
 #include <optional>
 
@@ -16,7 +18,7 @@ namespace thicket::python {
 struct AccelHandle {
     std::shared_ptr<const Scene> scene;
     std::shared_ptr<const Accel> accel;
-    /// A `bvh` over the same scene, built on the first closest-point query when `accel` cannot
+    /// A `bvh8` over the same scene, built on the first closest-point query when `accel` cannot
     /// answer those itself (only ever touched with the GIL held).
     std::shared_ptr<const Accel> closest_helper;
 };
@@ -40,7 +42,7 @@ py::dict list_intersections(const AccelHandle& h, const py::handle& rays, unsign
 
 /// Open3D's compute_closest_points for points (..., 3): dict of points, geometry_ids,
 /// primitive_ids, primitive_uvs, primitive_normals. Structures that cannot answer closest points
-/// themselves use a BVH built over the same scene on first use.
+/// themselves use a bvh8 built over the same scene on first use.
 py::dict compute_closest_points(AccelHandle& h, const py::handle& points, unsigned threads);
 /// Distance to the surface, float32 of the points' leading shape.
 py::array compute_distance(AccelHandle& h, const py::handle& points, unsigned threads);
