@@ -1,6 +1,7 @@
 #include "queries.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <iterator>
 #include <vector>
@@ -20,10 +21,28 @@ BatchOptions batch_options(unsigned threads, bool coherent) {
     return o;
 }
 
+/// h.triangle_normals, made on first use for a triangle scene (null for a scene with shapes,
+/// whose normals depend on the hit point). Call with the GIL held; it is released while the
+/// normals are computed, in parallel, with Scene::normal itself, so that they are its bits.
+std::shared_ptr<const std::vector<Vec3>> triangle_normals(AccelHandle& h, unsigned threads) {
+    if (h.triangle_normals || h.scene->has_shapes()) return h.triangle_normals;
+    auto normals = std::make_shared<std::vector<Vec3>>(h.scene->mesh.triangle_count());
+    {
+        py::gil_scoped_release nogil;
+        parallel_for(normals->size(), 4096, threads, [&](size_t begin, size_t end) {
+            for (size_t i = begin; i < end; ++i) (*normals)[i] = h.scene->normal(Ray{}, Hit{0.0f, 0.0f, 0.0f, uint32_t(i)});
+        });
+    }
+    if (!h.triangle_normals) h.triangle_normals = std::move(normals);
+    return h.triangle_normals;
+}
+
 }  // namespace
 
-py::dict cast_rays(const AccelHandle& h, const py::handle& rays_obj, unsigned threads, bool coherent) {
+py::dict cast_rays(AccelHandle& h, const py::handle& rays_obj, unsigned threads, bool coherent) {
     const Rows rows = float32_rows(rays_obj, "rays", {6, 8});
+    const std::shared_ptr<const std::vector<Vec3>> normal_table = triangle_normals(h, threads);
+    const Vec3* table = normal_table ? normal_table->data() : nullptr;
     // numpy allocates without touching: the worker threads that write a chunk's answers take its
     // pages' first-touch faults, in parallel and next to the tracing.
     auto t_hit = new_array<float>(rows.lead);
@@ -60,7 +79,7 @@ py::dict cast_rays(const AccelHandle& h, const py::handle& rays_obj, unsigned th
                 prim[row] = found ? hit.prim : kNoPrim;
                 uv[2 * row] = found ? hit.u : 0.0f;
                 uv[2 * row + 1] = found ? hit.v : 0.0f;
-                const Vec3 n = found ? h.scene->normal(c.rays[k], hit) : Vec3{0, 0, 0};
+                const Vec3 n = !found ? Vec3{0, 0, 0} : table ? table[hit.prim] : h.scene->normal(c.rays[k], hit);
                 nrm[3 * row] = n.x, nrm[3 * row + 1] = n.y, nrm[3 * row + 2] = n.z;
             }
         });
@@ -334,6 +353,38 @@ py::array compute_signed_distance(AccelHandle& h, const py::handle& points_obj, 
         });
     }
     return result;
+}
+
+double batch_seconds(AccelHandle& h, const py::handle& rows_obj, const std::string& query, unsigned threads) {
+    BatchOptions options;
+    options.threads = threads;
+    if (query == "closest_point") {
+        const Rows rows = query_points(rows_obj);
+        const Accel& accel = closest_accel(h);
+        py::gil_scoped_release nogil;
+        const auto* p = reinterpret_cast<const Vec3*>(rows.data());
+        const std::vector<Vec3> points(p, p + rows.count);
+        std::vector<NearestPoint> out(rows.count);
+        const auto start = std::chrono::steady_clock::now();
+        accel.closest_points(points, out, options);
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+    if (query != "closest" && query != "any" && query != "count")
+        throw py::value_error("query must be closest, any, count or closest_point, got " + query);
+    const Rows rows = float32_rows(rows_obj, "rays", {6, 8});
+    py::gil_scoped_release nogil;
+    const RayBatch batch = make_rays(rows, 0.0f, kInfinity, threads);
+    std::vector<Hit> hits(query == "closest" ? batch.rays.size() : 0);
+    std::vector<uint8_t> occluded(query == "any" ? batch.rays.size() : 0);
+    std::vector<uint32_t> counts(query == "count" ? batch.rays.size() : 0);
+    const auto start = std::chrono::steady_clock::now();
+    if (query == "closest")
+        h.accel->intersect(batch.rays, hits, options);
+    else if (query == "any")
+        h.accel->occluded(batch.rays, occluded, options);
+    else
+        h.accel->count_hits(batch.rays, counts, options);
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 }  // namespace thicket::python

@@ -6,6 +6,8 @@
 // answers into the output arrays, so the module adds no pass over the batch of its own.
 #include <memory>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "arrays.h"
 #include "thicket/accel/accel.h"
@@ -21,11 +23,15 @@ struct AccelHandle {
     /// A `bvh8` over the same scene, built on the first closest-point query when `accel` cannot
     /// answer those itself (only ever touched with the GIL held).
     std::shared_ptr<const Accel> closest_helper;
+    /// Scene::normal of every triangle of a triangle scene, made on its first cast_rays (only
+    /// ever touched with the GIL held): cast_rays writes one normal per hit, and one load from
+    /// here costs a sixth of the index and vertex loads (and the square root) behind Scene::normal.
+    std::shared_ptr<const std::vector<Vec3>> triangle_normals;
 };
 
 /// Open3D's cast_rays: dict of t_hit (inf on a miss), geometry_ids (0, or 4294967295 on a miss),
 /// primitive_ids (4294967295 on a miss), primitive_uvs (..., 2), primitive_normals (..., 3).
-py::dict cast_rays(const AccelHandle& h, const py::handle& rays, unsigned threads, bool coherent);
+py::dict cast_rays(AccelHandle& h, const py::handle& rays, unsigned threads, bool coherent);
 
 /// Open3D's test_occlusions: a bool array of the rays' leading shape.
 py::array test_occlusions(const AccelHandle& h, const py::handle& rays, std::optional<float> tnear,
@@ -51,5 +57,12 @@ py::array compute_distance(AccelHandle& h, const py::handle& points, unsigned th
 py::array compute_occupancy(const AccelHandle& h, const py::handle& points, unsigned threads, int nsamples);
 /// compute_distance, negative where compute_occupancy says inside.
 py::array compute_signed_distance(AccelHandle& h, const py::handle& points, unsigned threads, int nsamples);
+
+/// For python/bench/module_bench.py, not the API: the seconds the C++ batch call alone takes for
+/// `query` ("closest", "any", "count" over rays (N, 8), "closest_point" over points (N, 3)) with
+/// the rows converted and the answers' vector allocated and touched beforehand, as `thicket trace`
+/// and `thicket closest` time it, in this process, so that the module's figure can be set against
+/// it call for call on the same structure.
+double batch_seconds(AccelHandle& h, const py::handle& rows, const std::string& query, unsigned threads);
 
 }  // namespace thicket::python
