@@ -9,7 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "thicket/accel/accel.h"
 #include "thicket/core/ray.h"
+#include "thicket/util/parallel.h"
 
 namespace thicket::python {
 
@@ -47,15 +49,71 @@ struct RayBatch {
 /// Converts `rows` on `threads` threads; call without the GIL.
 RayBatch make_rays(const Rows& rows, float tnear, float tfar, unsigned threads);
 
+/// Rows [begin, end) of a batch as rays, converted by the thread that traces them and kept on its
+/// stack: the rays never make a round trip through memory, and no array of rays or answers as
+/// large as the batch is allocated and first touched. Rows without meaning are left out: ray k
+/// is row begin + offset[k].
+struct RayChunk {
+    Ray rays[kBatchGrain];
+    uint16_t offset[kBatchGrain];
+    size_t count = 0;
+    size_t begin = 0;
+    size_t end = 0;
+    /// Whether every row became a ray (else the caller answers the others as misses first).
+    bool complete() const { return count == end - begin; }
+    /// The row of ray k.
+    size_t row(size_t k) const { return begin + offset[k]; }
+};
+
+/// Converts rows [begin, end) (at most kBatchGrain) of `rows` into `chunk`.
+void fill_chunk(const Rows& rows, float tnear, float tfar, size_t begin, size_t end, RayChunk& chunk);
+
+/// Calls f(const RayChunk&) for the rows in chunks of kBatchGrain, the library's batch chunking,
+/// on `threads` threads (0: all cores): each chunk is converted, traced and written out by one
+/// thread. Call without the GIL.
+template <class F>
+void for_each_ray_chunk(const Rows& rows, float tnear, float tfar, unsigned threads, F&& f) {
+    parallel_for(rows.count, kBatchGrain, threads, [&](size_t begin, size_t end) {
+        RayChunk chunk;
+        fill_chunk(rows, tnear, tfar, begin, end, chunk);
+        f(static_cast<const RayChunk&>(chunk));
+    });
+}
+
+/// What one chunk asks of the library's batch calls: one thread (the chunk's own), so that the
+/// chunk is traced in place by the thread that converted it.
+inline BatchOptions chunk_options(bool coherent) {
+    BatchOptions o;
+    o.threads = 1;
+    o.coherent = coherent;
+    return o;
+}
+
 /// tnear/tfar of the 6-column form; with 8 columns the row holds the interval and giving them too
 /// is a ValueError (which one would win is not obvious).
 void check_interval_arguments(const Rows& rows, std::optional<float> tnear, std::optional<float> tfar);
 
-/// A new C-contiguous array of shape lead + tail.
+/// Memory for an output array of `bytes`, or an empty handle for numpy's own allocator: a large
+/// array gets a mapping of its own, aligned to and advised for 2 MiB pages, which the capsule
+/// returned releases when the array dies (kept for the next array of the same size, up to 256
+/// MiB in all, else unmapped). Writing a batch's answers into fresh memory faults every page in;
+/// on 4 KiB pages (numpy's malloc leaves most of a 4 MiB array on them) those faults cost more
+/// than converting the rows (1M rays: 40 MB, 10^4 faults, ~100 ms on the virtualized machine
+/// measured), on 2 MiB pages one fault in 512. `data` receives the memory; its contents are
+/// undefined (every query writes every element).
+py::capsule huge_page_memory(size_t bytes, void*& data);
+
+/// A new C-contiguous array of shape lead + tail, its memory untouched (the threads that write
+/// the answers fault it in, in parallel), on huge pages when it is large (huge_page_memory).
 template <class T>
 py::array_t<T> new_array(const std::vector<py::ssize_t>& lead, std::initializer_list<py::ssize_t> tail = {}) {
     std::vector<py::ssize_t> shape = lead;
     shape.insert(shape.end(), tail.begin(), tail.end());
+    size_t count = 1;
+    for (py::ssize_t n : shape) count *= size_t(n);
+    void* data = nullptr;
+    if (py::capsule owner = huge_page_memory(count * sizeof(T), data))
+        return py::array_t<T>(shape, static_cast<T*>(data), owner);
     return py::array_t<T>(shape);
 }
 

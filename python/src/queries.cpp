@@ -1,6 +1,7 @@
 #include "queries.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <iterator>
 #include <vector>
@@ -20,10 +21,30 @@ BatchOptions batch_options(unsigned threads, bool coherent) {
     return o;
 }
 
+/// h.triangle_normals, made on first use for a triangle scene (null for a scene with shapes,
+/// whose normals depend on the hit point). Call with the GIL held; it is released while the
+/// normals are computed, in parallel, with Scene::normal itself, so that they are its bits.
+std::shared_ptr<const std::vector<Vec3>> triangle_normals(AccelHandle& h, unsigned threads) {
+    if (h.triangle_normals || h.scene->has_shapes()) return h.triangle_normals;
+    auto normals = std::make_shared<std::vector<Vec3>>(h.scene->mesh.triangle_count());
+    {
+        py::gil_scoped_release nogil;
+        parallel_for(normals->size(), 4096, threads, [&](size_t begin, size_t end) {
+            for (size_t i = begin; i < end; ++i) (*normals)[i] = h.scene->normal(Ray{}, Hit{0.0f, 0.0f, 0.0f, uint32_t(i)});
+        });
+    }
+    if (!h.triangle_normals) h.triangle_normals = std::move(normals);
+    return h.triangle_normals;
+}
+
 }  // namespace
 
-py::dict cast_rays(const AccelHandle& h, const py::handle& rays_obj, unsigned threads, bool coherent) {
+py::dict cast_rays(AccelHandle& h, const py::handle& rays_obj, unsigned threads, bool coherent) {
     const Rows rows = float32_rows(rays_obj, "rays", {6, 8});
+    const std::shared_ptr<const std::vector<Vec3>> normal_table = triangle_normals(h, threads);
+    const Vec3* table = normal_table ? normal_table->data() : nullptr;
+    // numpy allocates without touching: the worker threads that write a chunk's answers take its
+    // pages' first-touch faults, in parallel and next to the tracing.
     auto t_hit = new_array<float>(rows.lead);
     auto geometry_ids = new_array<uint32_t>(rows.lead);
     auto primitive_ids = new_array<uint32_t>(rows.lead);
@@ -37,26 +58,30 @@ py::dict cast_rays(const AccelHandle& h, const py::handle& rays_obj, unsigned th
     float* nrm = normals.mutable_data();
     {
         py::gil_scoped_release nogil;
-        const RayBatch batch = make_rays(rows, 0.0f, kInfinity, threads);
-        std::vector<Hit> hits(batch.rays.size());
-        h.accel->intersect(batch.rays, hits, batch_options(threads, coherent));
-        auto write = [&](size_t row, const Ray* ray, const Hit& hit) {
-            const bool found = ray && hit.found();
-            // A miss is +inf, not the ray's tmax (Open3D's and `thicket trace`'s convention).
-            t[row] = found ? hit.t : kInfinity;
-            geom[row] = found ? 0u : kNoPrim;
-            prim[row] = found ? hit.prim : kNoPrim;
-            uv[2 * row] = found ? hit.u : 0.0f;
-            uv[2 * row + 1] = found ? hit.v : 0.0f;
-            const Vec3 n = found ? h.scene->normal(*ray, hit) : Vec3{0, 0, 0};
-            nrm[3 * row] = n.x, nrm[3 * row + 1] = n.y, nrm[3 * row + 2] = n.z;
-        };
-        if (batch.compacted)  // rows without a ray are misses
-            parallel_for(rows.count, 4 * kBatchGrain, threads, [&](size_t b, size_t e) {
-                for (size_t i = b; i < e; ++i) write(i, nullptr, Hit{});
-            });
-        parallel_for(hits.size(), 4 * kBatchGrain, threads, [&](size_t b, size_t e) {
-            for (size_t k = b; k < e; ++k) write(batch.row_of(k), &batch.rays[k], hits[k]);
+        const BatchOptions one = chunk_options(coherent);
+        for_each_ray_chunk(rows, 0.0f, kInfinity, threads, [&](const RayChunk& c) {
+            Hit hits[kBatchGrain];
+            h.accel->intersect({c.rays, c.count}, {hits, c.count}, one);
+            if (!c.complete())  // rows without a ray are misses
+                for (size_t row = c.begin; row < c.end; ++row) {
+                    t[row] = kInfinity;
+                    geom[row] = prim[row] = kNoPrim;
+                    uv[2 * row] = uv[2 * row + 1] = 0.0f;
+                    nrm[3 * row] = nrm[3 * row + 1] = nrm[3 * row + 2] = 0.0f;
+                }
+            for (size_t k = 0; k < c.count; ++k) {
+                const size_t row = c.row(k);
+                const Hit& hit = hits[k];
+                const bool found = hit.found();
+                // A miss is +inf, not the ray's tmax (Open3D's and `thicket trace`'s convention).
+                t[row] = found ? hit.t : kInfinity;
+                geom[row] = found ? 0u : kNoPrim;
+                prim[row] = found ? hit.prim : kNoPrim;
+                uv[2 * row] = found ? hit.u : 0.0f;
+                uv[2 * row + 1] = found ? hit.v : 0.0f;
+                const Vec3 n = !found ? Vec3{0, 0, 0} : table ? table[hit.prim] : h.scene->normal(c.rays[k], hit);
+                nrm[3 * row] = n.x, nrm[3 * row + 1] = n.y, nrm[3 * row + 2] = n.z;
+            }
         });
     }
     py::dict out;
@@ -76,11 +101,13 @@ py::array test_occlusions(const AccelHandle& h, const py::handle& rays_obj, std:
     bool* out = result.mutable_data();
     {
         py::gil_scoped_release nogil;
-        const RayBatch batch = make_rays(rows, tnear.value_or(0.0f), tfar.value_or(kInfinity), threads);
-        std::vector<uint8_t> occluded(batch.rays.size());
-        h.accel->occluded(batch.rays, occluded, batch_options(threads, coherent));
-        if (batch.compacted) std::fill(out, out + rows.count, false);
-        for (size_t k = 0; k < occluded.size(); ++k) out[batch.row_of(k)] = occluded[k] != 0;
+        const BatchOptions one = chunk_options(coherent);
+        for_each_ray_chunk(rows, tnear.value_or(0.0f), tfar.value_or(kInfinity), threads, [&](const RayChunk& c) {
+            uint8_t occluded[kBatchGrain];
+            h.accel->occluded({c.rays, c.count}, {occluded, c.count}, one);
+            if (!c.complete()) std::fill(out + c.begin, out + c.end, false);
+            for (size_t k = 0; k < c.count; ++k) out[c.row(k)] = occluded[k] != 0;
+        });
     }
     return result;
 }
@@ -113,41 +140,58 @@ Rows query_points(const py::handle& obj) {
     return rows;
 }
 
+/// The structure that answers closest points: the user's own when it answers them natively
+/// (brute, bvh, bvh8 over triangles), else a bvh8 over the same scene, built once on first use
+/// (without the GIL; two threads racing both build, one result is kept).
 const Accel& closest_accel(AccelHandle& h) {
     if (h.accel->has_closest_point()) return *h.accel;
     if (!h.closest_helper) {
-        std::shared_ptr<const Accel> bvh = build_accel("bvh", *h.scene);
-        if (!bvh->has_closest_point()) bvh->closest_point({0, 0, 0});  // throws the reason (shapes)
-        h.closest_helper = std::move(bvh);
+        std::shared_ptr<const Accel> helper;
+        {
+            py::gil_scoped_release nogil;
+            helper = build_accel("bvh8", *h.scene);
+            if (!helper->has_closest_point()) helper->closest_point({0, 0, 0});  // throws the reason (shapes)
+        }
+        if (!h.closest_helper) h.closest_helper = std::move(helper);
     }
     return *h.closest_helper;
 }
 
-std::vector<NearestPoint> closest_of(AccelHandle& h, const Rows& rows, unsigned threads) {
-    const Accel& accel = closest_accel(h);
-    py::gil_scoped_release nogil;
-    std::vector<NearestPoint> out(rows.count);
-    const auto* points = reinterpret_cast<const Vec3*>(rows.data());  // rows of 3 floats: Vec3's layout
-    accel.closest_points({points, rows.count}, out, batch_options(threads, false));
-    return out;
-}
-
-std::vector<uint8_t> inside_of(const AccelHandle& h, const Rows& rows, unsigned threads, int nsamples) {
+/// nsamples must be odd and at most kMaxSamples: a ValueError naming it otherwise.
+void check_samples(int nsamples) {
     if (nsamples < 1 || nsamples > kMaxSamples || nsamples % 2 == 0)
         throw py::value_error("nsamples must be odd, between 1 and " + std::to_string(kMaxSamples) + ", got " +
                               std::to_string(nsamples));
-    py::gil_scoped_release nogil;
-    std::vector<uint8_t> votes(rows.count, 0);
-    std::vector<Ray> rays(rows.count);
-    std::vector<uint32_t> counts(rows.count);
-    const auto* points = reinterpret_cast<const Vec3*>(rows.data());
+}
+
+/// Calls f(begin, end, closest) for the points in chunks of kBatchGrain on `threads` threads,
+/// closest[k] being point begin + k's closest point; call without the GIL. As for rays, each
+/// chunk's answers stay on the stack of the thread that writes them out.
+template <class F>
+void for_each_closest_chunk(const Accel& accel, const Rows& rows, unsigned threads, F&& f) {
+    const auto* points = reinterpret_cast<const Vec3*>(rows.data());  // rows of 3 floats: Vec3's layout
+    const BatchOptions one = chunk_options(false);
+    parallel_for(rows.count, kBatchGrain, threads, [&](size_t begin, size_t end) {
+        NearestPoint closest[kBatchGrain];
+        accel.closest_points({points + begin, end - begin}, {closest, end - begin}, one);
+        f(begin, end, static_cast<const NearestPoint*>(closest));
+    });
+}
+
+/// inside[k] (1 or 0) of points [begin, end) by the parity of crossings along nsamples fixed
+/// directions, the majority deciding; traced on the calling thread.
+void inside_of(const Accel& accel, const Vec3* points, size_t begin, size_t end, int nsamples, uint8_t* inside) {
+    const size_t n = end - begin;
+    Ray rays[kBatchGrain];
+    uint32_t counts[kBatchGrain];
+    uint8_t votes[kBatchGrain] = {};
+    const BatchOptions one = chunk_options(false);
     for (int s = 0; s < nsamples; ++s) {
-        for (size_t i = 0; i < rows.count; ++i) rays[i] = {points[i], 0.0f, kParityDirections[s], kInfinity};
-        h.accel->count_hits(rays, counts, batch_options(threads, false));
-        for (size_t i = 0; i < rows.count; ++i) votes[i] += counts[i] & 1;
+        for (size_t k = 0; k < n; ++k) rays[k] = {points[begin + k], 0.0f, kParityDirections[s], kInfinity};
+        accel.count_hits({rays, n}, {counts, n}, one);
+        for (size_t k = 0; k < n; ++k) votes[k] += counts[k] & 1;
     }
-    for (uint8_t& v : votes) v = 2 * v > nsamples ? 1 : 0;
-    return votes;
+    for (size_t k = 0; k < n; ++k) inside[k] = 2 * votes[k] > nsamples ? 1 : 0;
 }
 
 }  // namespace
@@ -158,11 +202,13 @@ py::array count_intersections(const AccelHandle& h, const py::handle& rays_obj, 
     int32_t* out = result.mutable_data();
     {
         py::gil_scoped_release nogil;
-        const RayBatch batch = make_rays(rows, 0.0f, kInfinity, threads);
-        std::vector<uint32_t> counts(batch.rays.size());
-        h.accel->count_hits(batch.rays, counts, batch_options(threads, false));
-        if (batch.compacted) std::fill(out, out + rows.count, 0);
-        for (size_t k = 0; k < counts.size(); ++k) out[batch.row_of(k)] = int32_t(counts[k]);
+        const BatchOptions one = chunk_options(false);
+        for_each_ray_chunk(rows, 0.0f, kInfinity, threads, [&](const RayChunk& c) {
+            uint32_t counts[kBatchGrain];
+            h.accel->count_hits({c.rays, c.count}, {counts, c.count}, one);
+            if (!c.complete()) std::fill(out + c.begin, out + c.end, 0);
+            for (size_t k = 0; k < c.count; ++k) out[c.row(k)] = int32_t(counts[k]);
+        });
     }
     return result;
 }
@@ -223,7 +269,7 @@ py::dict list_intersections(const AccelHandle& h, const py::handle& rays_obj, un
 
 py::dict compute_closest_points(AccelHandle& h, const py::handle& points_obj, unsigned threads) {
     const Rows rows = query_points(points_obj);
-    const std::vector<NearestPoint> closest = closest_of(h, rows, threads);
+    const Accel& accel = closest_accel(h);
     auto points = new_array<float>(rows.lead, {3});
     auto geometry_ids = new_array<uint32_t>(rows.lead);
     auto primitive_ids = new_array<uint32_t>(rows.lead);
@@ -234,16 +280,21 @@ py::dict compute_closest_points(AccelHandle& h, const py::handle& points_obj, un
     uint32_t* prim = primitive_ids.mutable_data();
     float* uv = uvs.mutable_data();
     float* nrm = normals.mutable_data();
-    for (size_t i = 0; i < rows.count; ++i) {
-        const NearestPoint& s = closest[i];
-        const bool found = s.found();
-        p[3 * i] = s.point.x, p[3 * i + 1] = s.point.y, p[3 * i + 2] = s.point.z;
-        geom[i] = found ? kGeometryId : kNoPrim;
-        prim[i] = s.prim;
-        uv[2 * i] = s.u, uv[2 * i + 1] = s.v;
-        Vec3 n = found ? h.scene->geometric_normal(s.prim) : Vec3{0, 0, 0};
-        if (dot(n, n) > 0) n = normalize(n);
-        nrm[3 * i] = n.x, nrm[3 * i + 1] = n.y, nrm[3 * i + 2] = n.z;
+    {
+        py::gil_scoped_release nogil;
+        for_each_closest_chunk(accel, rows, threads, [&](size_t begin, size_t end, const NearestPoint* closest) {
+            for (size_t i = begin; i < end; ++i) {
+                const NearestPoint& s = closest[i - begin];
+                const bool found = s.found();
+                p[3 * i] = s.point.x, p[3 * i + 1] = s.point.y, p[3 * i + 2] = s.point.z;
+                geom[i] = found ? kGeometryId : kNoPrim;
+                prim[i] = s.prim;
+                uv[2 * i] = s.u, uv[2 * i + 1] = s.v;
+                Vec3 n = found ? h.scene->geometric_normal(s.prim) : Vec3{0, 0, 0};
+                if (dot(n, n) > 0) n = normalize(n);
+                nrm[3 * i] = n.x, nrm[3 * i + 1] = n.y, nrm[3 * i + 2] = n.z;
+            }
+        });
     }
     py::dict out;
     out["points"] = points;
@@ -256,30 +307,84 @@ py::dict compute_closest_points(AccelHandle& h, const py::handle& points_obj, un
 
 py::array compute_distance(AccelHandle& h, const py::handle& points_obj, unsigned threads) {
     const Rows rows = query_points(points_obj);
-    const std::vector<NearestPoint> closest = closest_of(h, rows, threads);
+    const Accel& accel = closest_accel(h);
     auto result = new_array<float>(rows.lead);
     float* out = result.mutable_data();
-    for (size_t i = 0; i < rows.count; ++i) out[i] = closest[i].distance;
+    {
+        py::gil_scoped_release nogil;
+        for_each_closest_chunk(accel, rows, threads, [&](size_t begin, size_t end, const NearestPoint* closest) {
+            for (size_t i = begin; i < end; ++i) out[i] = closest[i - begin].distance;
+        });
+    }
     return result;
 }
 
 py::array compute_occupancy(const AccelHandle& h, const py::handle& points_obj, unsigned threads, int nsamples) {
     const Rows rows = query_points(points_obj);
-    const std::vector<uint8_t> inside = inside_of(h, rows, threads, nsamples);
+    check_samples(nsamples);
     auto result = new_array<float>(rows.lead);
     float* out = result.mutable_data();
-    for (size_t i = 0; i < rows.count; ++i) out[i] = inside[i] ? 1.0f : 0.0f;
+    {
+        py::gil_scoped_release nogil;
+        const auto* points = reinterpret_cast<const Vec3*>(rows.data());
+        parallel_for(rows.count, kBatchGrain, threads, [&](size_t begin, size_t end) {
+            uint8_t inside[kBatchGrain];
+            inside_of(*h.accel, points, begin, end, nsamples, inside);
+            for (size_t i = begin; i < end; ++i) out[i] = inside[i - begin] ? 1.0f : 0.0f;
+        });
+    }
     return result;
 }
 
 py::array compute_signed_distance(AccelHandle& h, const py::handle& points_obj, unsigned threads, int nsamples) {
     const Rows rows = query_points(points_obj);
-    const std::vector<NearestPoint> closest = closest_of(h, rows, threads);
-    const std::vector<uint8_t> inside = inside_of(h, rows, threads, nsamples);
+    check_samples(nsamples);
+    const Accel& accel = closest_accel(h);
     auto result = new_array<float>(rows.lead);
     float* out = result.mutable_data();
-    for (size_t i = 0; i < rows.count; ++i) out[i] = inside[i] ? -closest[i].distance : closest[i].distance;
+    {
+        py::gil_scoped_release nogil;
+        const auto* points = reinterpret_cast<const Vec3*>(rows.data());
+        for_each_closest_chunk(accel, rows, threads, [&](size_t begin, size_t end, const NearestPoint* closest) {
+            uint8_t inside[kBatchGrain];
+            inside_of(*h.accel, points, begin, end, nsamples, inside);
+            for (size_t i = begin; i < end; ++i)
+                out[i] = inside[i - begin] ? -closest[i - begin].distance : closest[i - begin].distance;
+        });
+    }
     return result;
+}
+
+double batch_seconds(AccelHandle& h, const py::handle& rows_obj, const std::string& query, unsigned threads) {
+    BatchOptions options;
+    options.threads = threads;
+    if (query == "closest_point") {
+        const Rows rows = query_points(rows_obj);
+        const Accel& accel = closest_accel(h);
+        py::gil_scoped_release nogil;
+        const auto* p = reinterpret_cast<const Vec3*>(rows.data());
+        const std::vector<Vec3> points(p, p + rows.count);
+        std::vector<NearestPoint> out(rows.count);
+        const auto start = std::chrono::steady_clock::now();
+        accel.closest_points(points, out, options);
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+    if (query != "closest" && query != "any" && query != "count")
+        throw py::value_error("query must be closest, any, count or closest_point, got " + query);
+    const Rows rows = float32_rows(rows_obj, "rays", {6, 8});
+    py::gil_scoped_release nogil;
+    const RayBatch batch = make_rays(rows, 0.0f, kInfinity, threads);
+    std::vector<Hit> hits(query == "closest" ? batch.rays.size() : 0);
+    std::vector<uint8_t> occluded(query == "any" ? batch.rays.size() : 0);
+    std::vector<uint32_t> counts(query == "count" ? batch.rays.size() : 0);
+    const auto start = std::chrono::steady_clock::now();
+    if (query == "closest")
+        h.accel->intersect(batch.rays, hits, options);
+    else if (query == "any")
+        h.accel->occluded(batch.rays, occluded, options);
+    else
+        h.accel->count_hits(batch.rays, counts, options);
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 }  // namespace thicket::python

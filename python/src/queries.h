@@ -1,9 +1,13 @@
 #pragma once
 // The queries of thicket.Accel, numpy in and out, named and shaped as Open3D 0.16's
 // RaycastingScene answers them. Each releases the GIL while it converts and traces, and traces
-// through the library's batch API (all cores unless nthreads says otherwise).
+// through the library's batch API (all cores unless nthreads says otherwise), one chunk of
+// kBatchGrain rows at a time: each thread converts its chunk's rows, traces them and writes the
+// answers into the output arrays, so the module adds no pass over the batch of its own.
 #include <memory>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "arrays.h"
 #include "thicket/accel/accel.h"
@@ -16,14 +20,18 @@ namespace thicket::python {
 struct AccelHandle {
     std::shared_ptr<const Scene> scene;
     std::shared_ptr<const Accel> accel;
-    /// A `bvh` over the same scene, built on the first closest-point query when `accel` cannot
+    /// A `bvh8` over the same scene, built on the first closest-point query when `accel` cannot
     /// answer those itself (only ever touched with the GIL held).
     std::shared_ptr<const Accel> closest_helper;
+    /// Scene::normal of every triangle of a triangle scene, made on its first cast_rays (only
+    /// ever touched with the GIL held): cast_rays writes one normal per hit, and one load from
+    /// here costs a sixth of the index and vertex loads (and the square root) behind Scene::normal.
+    std::shared_ptr<const std::vector<Vec3>> triangle_normals;
 };
 
 /// Open3D's cast_rays: dict of t_hit (inf on a miss), geometry_ids (0, or 4294967295 on a miss),
 /// primitive_ids (4294967295 on a miss), primitive_uvs (..., 2), primitive_normals (..., 3).
-py::dict cast_rays(const AccelHandle& h, const py::handle& rays, unsigned threads, bool coherent);
+py::dict cast_rays(AccelHandle& h, const py::handle& rays, unsigned threads, bool coherent);
 
 /// Open3D's test_occlusions: a bool array of the rays' leading shape.
 py::array test_occlusions(const AccelHandle& h, const py::handle& rays, std::optional<float> tnear,
@@ -40,7 +48,7 @@ py::dict list_intersections(const AccelHandle& h, const py::handle& rays, unsign
 
 /// Open3D's compute_closest_points for points (..., 3): dict of points, geometry_ids,
 /// primitive_ids, primitive_uvs, primitive_normals. Structures that cannot answer closest points
-/// themselves use a BVH built over the same scene on first use.
+/// themselves use a bvh8 built over the same scene on first use.
 py::dict compute_closest_points(AccelHandle& h, const py::handle& points, unsigned threads);
 /// Distance to the surface, float32 of the points' leading shape.
 py::array compute_distance(AccelHandle& h, const py::handle& points, unsigned threads);
@@ -49,5 +57,12 @@ py::array compute_distance(AccelHandle& h, const py::handle& points, unsigned th
 py::array compute_occupancy(const AccelHandle& h, const py::handle& points, unsigned threads, int nsamples);
 /// compute_distance, negative where compute_occupancy says inside.
 py::array compute_signed_distance(AccelHandle& h, const py::handle& points, unsigned threads, int nsamples);
+
+/// For python/bench/module_bench.py, not the API: the seconds the C++ batch call alone takes for
+/// `query` ("closest", "any", "count" over rays (N, 8), "closest_point" over points (N, 3)) with
+/// the rows converted and the answers' vector allocated and touched beforehand, as `thicket trace`
+/// and `thicket closest` time it, in this process, so that the module's figure can be set against
+/// it call for call on the same structure.
+double batch_seconds(AccelHandle& h, const py::handle& rows, const std::string& query, unsigned threads);
 
 }  // namespace thicket::python

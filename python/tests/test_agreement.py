@@ -96,10 +96,10 @@ def test_cli_count_all_and_closest_match_the_module(tmp_path):
     np.save(tmp_path / "points.npy", pts)
     run("closest", "cornell", "--points", str(tmp_path / "points.npy"), "-o", str(tmp_path / "closest.npy"))
     closest = np.load(tmp_path / "closest.npy")
-    want = thicket.build(scene, "bvh").compute_closest_points(pts)
+    want = thicket.build(scene, "bvh8").compute_closest_points(pts)  # the CLI's default structure
     assert np.array_equal(np.stack([closest["x"], closest["y"], closest["z"]], axis=1), want["points"])
     assert np.array_equal(closest["prim"], want["primitive_ids"])
-    assert np.array_equal(closest["distance"], thicket.build(scene, "bvh").compute_distance(pts))
+    assert np.array_equal(closest["distance"], thicket.build(scene, "bvh8").compute_distance(pts))
     # Usage errors name the problem: two modes at once, shapes without closest points.
     bad = subprocess.run([CLI, "trace", "cornell", "--rays", str(tmp_path / "rays.npy"), "-o", str(tmp_path / "x.npy"),
                           "--count", "--all"], capture_output=True, text=True)

@@ -162,3 +162,22 @@ def test_gil_is_released_while_tracing(cornell):
     # busy machine).
     assert elapsed > 0.2, elapsed
     assert spins[0] > 0.25 * rate * elapsed, (spins[0], rate, elapsed)
+
+
+def test_large_outputs_reusing_freed_memory_hold_every_answer(cornell):
+    """Outputs of 1 MiB and more live in huge-page mappings that are kept for the next arrays of the
+    same size once their arrays die: every element must be written again, misses included."""
+    accel = thicket.build(cornell, "bvh8")
+    rays = random_rays(cornell, 300_000, seed=4)   # normals: 3.6 MB
+    rays[::7, 3:6] = 0                             # invalid rows: misses
+    first = accel.cast_rays(np.ascontiguousarray(rays[::-1]))
+    assert np.isfinite(first["t_hit"]).mean() > 0.5
+    del first                                      # its memory is kept, then handed to `second`
+    second = accel.cast_rays(rays)
+    third = accel.cast_rays(rays)                  # fresh memory while `second` lives
+    for key in second:
+        assert np.array_equal(second[key], third[key]), key
+    assert np.all(np.isinf(second["t_hit"][::7])) and np.all(second["primitive_ids"][::7] == thicket.INVALID_ID)
+    assert np.all(second["primitive_normals"][::7] == 0)
+    occluded = accel.test_occlusions(rays)
+    assert np.array_equal(occluded, np.isfinite(second["t_hit"]))

@@ -58,7 +58,7 @@ uint32_t Accel::count_hits(const Ray& ray) const {
 }
 
 NearestPoint Accel::closest_point(const Vec3&) const {
-    throw Error(spec_ + ": closest-point queries are answered by brute and bvh over triangles only");
+    throw Error(spec_ + ": closest-point queries are answered by brute, bvh and bvh8 over triangles only");
 }
 
 void Accel::count_hits(std::span<const Ray> rays, std::span<uint32_t> counts, const BatchOptions& options) const {

@@ -5,7 +5,10 @@
 
 #include <algorithm>
 #include <string>
+#include <utility>
+#include <vector>
 
+#include "bvh/coverage.h"
 #include "thicket/core/error.h"
 #include "thicket/util/binary_io.h"
 
@@ -63,55 +66,92 @@ SavedTree read_tree(std::istream& in, size_t primitive_count) {
     return saved;
 }
 
-void for_each_leaf(const Tree& tree, const std::function<void(uint32_t first, uint32_t size)>& visit) {
-    if (tree.nodes.empty()) return;
-    // Children lie after their parent (validate_tree): a node is reachable iff a reachable
-    // node before it points to it, so one forward pass marks them all.
+/// Which nodes traversal reaches: children lie after their parent (validate_tree), so a node is
+/// reachable iff a reachable node before it points to it, and one forward pass marks them all.
+static std::vector<bool> reachable_nodes(const Tree& tree) {
     std::vector<bool> reachable(tree.nodes.size(), false);
+    if (tree.nodes.empty()) return reachable;
     reachable[0] = true;
     for (size_t n = 0; n < tree.nodes.size(); ++n) {
         if (!reachable[n]) continue;
         const Node& node = tree.nodes[n];
-        for (int lane = 0; lane < kWidth; ++lane) {
-            if (!(node.valid >> lane & 1)) continue;
-            if (node.leaf_size[lane] == 0)
-                reachable[node.child[lane]] = true;
-            else
-                visit(node.child[lane], node.leaf_size[lane]);
-        }
+        for (int lane = 0; lane < kWidth; ++lane)
+            if ((node.valid >> lane & 1) && node.leaf_size[lane] == 0) reachable[node.child[lane]] = true;
+    }
+    return reachable;
+}
+
+void for_each_leaf(const Tree& tree, const std::function<void(uint32_t first, uint32_t size)>& visit) {
+    const std::vector<bool> reachable = reachable_nodes(tree);
+    for (size_t n = 0; n < tree.nodes.size(); ++n) {
+        if (!reachable[n]) continue;
+        const Node& node = tree.nodes[n];
+        for (int lane = 0; lane < kWidth; ++lane)
+            if ((node.valid >> lane & 1) && node.leaf_size[lane] != 0) visit(node.child[lane], node.leaf_size[lane]);
     }
 }
 
-void check_boxes(Tree& tree, const LeafBounds& leaf_bounds) {
+void check_boxes(Tree& tree, const LeafPrimitives& leaf_primitives, std::span<const Aabb> prim_bounds,
+                 const ClipFunction& clip) {
     tree.leaves = 0;
     tree.max_depth = 0;
     if (tree.nodes.empty()) return;
-    // Backwards, so that a child node's content box is known before its parent's lane is checked.
+    const std::vector<bool> reachable = reachable_nodes(tree);
+    auto box_of = [](const Node& node, int lane) {
+        Aabb box;
+        for (int a = 0; a < 3; ++a) box.min[a] = node.box[a][0][lane], box.max[a] = node.box[a][1][lane];
+        return box;
+    };
+    auto encloses = [](const Aabb& box, const Aabb& below) {
+        for (int a = 0; a < 3; ++a)
+            if (!(box.min[a] <= below.min[a] && below.max[a] <= box.max[a])) return false;
+        return true;
+    };
+    // Backwards, so that a child node's content box is known before its parent's lane is checked;
+    // every (primitive, leaf box) listing is kept for the per-primitive proof after.
     std::vector<Aabb> content(tree.nodes.size());
     std::vector<size_t> height(tree.nodes.size(), 1);
+    std::vector<std::pair<uint32_t, Aabb>> listings;
     for (size_t n = tree.nodes.size(); n-- > 0;) {
+        if (!reachable[n]) continue;
         const Node& node = tree.nodes[n];
         for (int lane = 0; lane < kWidth; ++lane) {
             if (!(node.valid >> lane & 1)) continue;
-            Aabb below;
+            const Aabb box = box_of(node, lane);
             if (node.leaf_size[lane] == 0) {
-                below = content[node.child[lane]];
+                const Aabb& below = content[node.child[lane]];
+                if (!below.empty() && !encloses(box, below))
+                    throw Error("bvh8: node " + std::to_string(n) + " lane " + std::to_string(lane) +
+                                ": its box does not enclose its child node's");
                 height[n] = std::max(height[n], height[node.child[lane]] + 1);
             } else {
-                below = leaf_bounds(node.child[lane], node.leaf_size[lane]);
+                leaf_primitives(node.child[lane], node.leaf_size[lane], [&](uint32_t p) { listings.push_back({p, box}); });
                 height[n] = std::max<size_t>(height[n], 2);  // the leaves' level counts (Tree::max_depth)
+                ++tree.leaves;
             }
-            Aabb box;
-            for (int a = 0; a < 3; ++a) box.min[a] = node.box[a][0][lane], box.max[a] = node.box[a][1][lane];
-            for (int a = 0; a < 3; ++a)
-                if (!below.empty() && !(box.min[a] <= below.min[a] && below.max[a] <= box.max[a]))
-                    throw Error("bvh8: node " + std::to_string(n) + " lane " + std::to_string(lane) +
-                                ": its box does not enclose what lies below it");
             content[n].grow(box);
         }
     }
     tree.max_depth = height[0];
-    for_each_leaf(tree, [&](uint32_t, uint32_t) { ++tree.leaves; });
+    std::stable_sort(listings.begin(), listings.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    CoverageProof proof(prim_bounds, clip);
+    std::vector<Aabb> boxes;
+    for (size_t i = 0; i < listings.size();) {
+        const uint32_t p = listings[i].first;
+        if (p >= prim_bounds.size()) throw Error("bvh8: a leaf lists primitive " + std::to_string(p));
+        size_t end = i;
+        while (end < listings.size() && listings[end].first == p) ++end;
+        if (end - i == 1) {  // every primitive of an object-partition tree
+            if (!encloses(listings[i].second, prim_bounds[p]))
+                throw Error("bvh8: the box of the leaf holding primitive " + std::to_string(p) +
+                            " does not enclose it");
+        } else {
+            boxes.clear();
+            for (size_t k = i; k < end; ++k) boxes.push_back(listings[k].second);
+            proof.check(p, boxes);
+        }
+        i = end;
+    }
 }
 
 }  // namespace thicket::bvh8

@@ -15,7 +15,7 @@ namespace {
 
 struct ClosestArgs {
     std::string scene;
-    AccelChoice accel{"bvh", ""};  // bvh8 answers closest points through this default, not itself
+    AccelChoice accel{"bvh8", ""};  // the fastest closest points (its 8-wide point traversal)
     std::string points;
     std::string output;
     unsigned threads = 0;
@@ -76,7 +76,7 @@ Command add_closest_command(CLI::App& app) {
     cmd->footer("Input: float32 (or float64) array of shape (N, 3), one point per row; every value finite.\n"
                 "Output: a structured array of shape (N,) with fields x, y, z (the closest point), distance "
                 "(float32), prim (uint32, 4294967295 for an empty scene), u, v (float32 barycentrics of vertices 1 "
-                "and 2). Triangle scenes only; structures: brute and bvh (the default).");
+                "and 2). Triangle scenes only; structures: brute, bvh and bvh8 (the default).");
     add_scene_argument(cmd, args->scene);
     add_accel_options(cmd, args->accel);
     cmd->add_option("-p,--points", args->points, "query points: .npy float array of shape (N, 3)")

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <functional>
 #include <ostream>
 #include <span>
 #include <string>
@@ -17,6 +18,7 @@
 #include "thicket/bvh/build.h"
 #include "thicket/bvh8/build.h"
 #include "thicket/bvh8/bvh8_io.h"
+#include "thicket/bvh8/closest_point.h"
 #include "thicket/bvh8/isa.h"
 #include "thicket/core/error.h"
 #include "thicket/prims/primitive_set.h"
@@ -72,12 +74,16 @@ public:
             // Every block holds at least one triangle: never reallocated during the collapse. One
             // per reference, not per triangle: spatial splits (sbvh) list a triangle in several leaves.
             blocks_.reserve(binary.prim_indices.size());
+            std::vector<uint32_t> slivers;
             tree_ = bvh8::collapse(
                 binary,
-                [&](uint32_t first, uint32_t count) { return emit_blocks(binary.prim_indices.data() + first, count); },
+                [&](uint32_t first, uint32_t count) {
+                    return emit_blocks(blocks_, binary.prim_indices.data() + first, count, &slivers);
+                },
                 options.merge_below);
             bvh8::validate_tree(tree_, blocks_.size());
             blocks_.shrink_to_fit();  // the reservation above is one block per triangle: 4x the need
+            build_sliver_tree(std::move(slivers), options);
             prims_ = Prims();  // the blocks are the structure's only copy of the triangles
         } else {
             ids_ = binary.prim_indices;
@@ -87,6 +93,7 @@ public:
             bvh8::validate_tree(tree_, ids_.size());
         }
         ctx_ = {tree_.nodes.data(), blocks_.data(), ids_.data(), &prims_, &closest_leaf, &any_leaf};
+        sliver_ctx_ = {sliver_tree_.nodes.data(), sliver_blocks_.data(), nullptr, nullptr, nullptr, nullptr};
     }
     /// Adopts a saved tree (bvh8::read_tree) after proving that it answers for `prims` as the
     /// built one would: its leaves hold the scene's own primitives (triangles bit for bit, none
@@ -100,19 +107,34 @@ public:
           blocks_(std::move(saved.blocks)),
           ids_(std::move(saved.ids)),
           kernels_(&bvh8::kernels_for(options.isa)) {
-        for (uint32_t i = 0; i < primitives_; ++i) tree_.bounds.grow(prims_.bounds(i));
+        std::vector<Aabb> prim_bounds(primitives_);
+        for (uint32_t i = 0; i < primitives_; ++i) tree_.bounds.grow(prim_bounds[i] = prims_.bounds(i));
+        const ClipFunction clip = [this](uint32_t i, const Aabb& box) { return clipped_bounds(prims_, i, box); };
         std::vector<bool> seen(primitives_, false);
         if constexpr (bvh8::kIsTriangles<Prims>) {
             if (!ids_.empty()) throw Error("bvh8: a triangle scene's payload lists primitive ids, not blocks");
             bvh8::for_each_leaf(tree_, [&](uint32_t first, uint32_t size) {
                 for (uint32_t b = first; b < first + size; ++b) check_block(b, seen);
             });
-            bvh8::check_boxes(tree_, [&](uint32_t first, uint32_t size) { return blocks_bounds(first, size); });
+            bvh8::check_boxes(
+                tree_,
+                [&](uint32_t first, uint32_t size, const std::function<void(uint32_t)>& id) {
+                    for (uint32_t b = first; b < first + size; ++b)
+                        for (uint32_t lane_id : blocks_[b].id)
+                            if (lane_id != kNoPrim) id(lane_id);
+                },
+                prim_bounds, clip);
+            std::vector<uint32_t> slivers;  // not saved: rebuilt as the build makes them
             for (uint32_t i = 0; i < primitives_; ++i) {
                 const auto v = prims_.triangle(i);
-                if (!seen[i] && !Prims::degenerate({v[0], v[1], v[2]}))
+                if (Prims::degenerate({v[0], v[1], v[2]}))
+                    slivers.push_back(i);
+                else if (!seen[i])
                     throw Error("bvh8: triangle " + std::to_string(i) + " is in no leaf");
             }
+            dropped_ = slivers.size();
+            references_ = kept_ + dropped_;  // lanes: a triangle cut by spatial splits counts per leaf
+            build_sliver_tree(std::move(slivers), options);
             prims_ = Prims();  // as after a build: the blocks are the only copy
         } else {
             if (!blocks_.empty()) throw Error("bvh8: payload holds triangle blocks for a scene that is not only triangles");
@@ -124,15 +146,18 @@ public:
                     seen[ids_[k]] = true;
                 }
             });
-            bvh8::check_boxes(tree_, [&](uint32_t first, uint32_t size) {
-                Aabb box;
-                for (uint32_t k = first; k < first + size; ++k) box.grow(prims_.bounds(ids_[k]));
-                return box;
-            });
+            bvh8::check_boxes(
+                tree_,
+                [&](uint32_t first, uint32_t size, const std::function<void(uint32_t)>& id) {
+                    for (uint32_t k = first; k < first + size; ++k) id(ids_[k]);
+                },
+                prim_bounds, clip);
             for (uint32_t i = 0; i < primitives_; ++i)
                 if (!seen[i]) throw Error("bvh8: primitive " + std::to_string(i) + " is in no leaf");
+            references_ = ids_.size();
         }
         ctx_ = {tree_.nodes.data(), blocks_.data(), ids_.data(), &prims_, &closest_leaf, &any_leaf};
+        sliver_ctx_ = {sliver_tree_.nodes.data(), sliver_blocks_.data(), nullptr, nullptr, nullptr, nullptr};
     }
     Bvh8(const Bvh8&) = delete;  // ctx_ points into this object
     Bvh8& operator=(const Bvh8&) = delete;
@@ -156,14 +181,28 @@ public:
             return kernels_->any[kLeafKind][0](ctx_, ray, nullptr);
     }
 
+    /// The closest point of the triangles to p through the per-ISA point traversal, degenerate
+    /// triangles included (their points are on the surface; rays never hit them); shapes: Error.
+    NearestPoint closest_point(const Vec3& p) const override {
+        if constexpr (bvh8::kIsTriangles<Prims>)
+            return bvh8::closest_point(*kernels_,
+                                       {tree_.nodes.empty() ? nullptr : &ctx_,
+                                        sliver_tree_.nodes.empty() ? nullptr : &sliver_ctx_},
+                                       p);
+        else
+            return Accel::closest_point(p);  // shapes: refused with the reason
+    }
+    bool has_closest_point() const override { return bvh8::kIsTriangles<Prims>; }
+
     AccelStats stats() const override {
         AccelStats s = this->base_stats();
         s.primitives = primitives_;
         s.nodes = tree_.nodes.size() + tree_.leaves;  // AccelStats counts leaves as nodes
         s.leaves = tree_.leaves;
         s.max_depth = tree_.max_depth;
-        s.bytes = tree_.nodes.size() * sizeof(bvh8::Node) + ids_.size() * sizeof(uint32_t);
-        s.primitive_bytes = bvh8::kIsTriangles<Prims> ? blocks_.size() * sizeof(bvh8::Tri4) : prims_.bytes();
+        s.bytes = (tree_.nodes.size() + sliver_tree_.nodes.size()) * sizeof(bvh8::Node) + ids_.size() * sizeof(uint32_t);
+        s.primitive_bytes = bvh8::kIsTriangles<Prims> ? (blocks_.size() + sliver_blocks_.size()) * sizeof(bvh8::Tri4)
+                                                      : prims_.bytes();
         s.sah_cost = tree_.sah_cost;
         s.extra.emplace_back("isa", kernels_->isa);
         s.extra.emplace_back("8-wide nodes", std::to_string(tree_.nodes.size()));
@@ -185,6 +224,8 @@ public:
     const bvh8::Tree& tree() const { return tree_; }
     const bvh8::KernelTable& kernels() const { return *kernels_; }
     const AlignedVector<bvh8::Tri4, 64>& blocks() const { return blocks_; }
+    /// The degenerate triangles' blocks, searched by closest_point() only.
+    const AlignedVector<bvh8::Tri4, 64>& sliver_blocks() const { return sliver_blocks_; }
 
 protected:
     /// Coherent batches: each 16 consecutive rays that share a direction octant (and have no zero
@@ -222,20 +263,25 @@ private:
         return finite;
     }
 
-    /// Copies a leaf's non-degenerate triangles into 4-lane blocks (degenerate ones are never
-    /// hit: Triangles::plausible).
-    bvh8::LeafPlacement emit_blocks(const uint32_t* prims, uint32_t count) {
-        bvh8::LeafPlacement p{uint32_t(blocks_.size()), 0};
+    /// Copies a leaf's triangles into 4-lane blocks of `out`. With `slivers`, degenerate ones are
+    /// left out (they are never hit: Triangles::plausible) and their ids appended there instead;
+    /// without, every triangle is kept (the sliver tree).
+    bvh8::LeafPlacement emit_blocks(AlignedVector<bvh8::Tri4, 64>& out, const uint32_t* prims, uint32_t count,
+                                    std::vector<uint32_t>* slivers) {
+        bvh8::LeafPlacement p{uint32_t(out.size()), 0};
         uint32_t lane = 4;
         for (uint32_t k = 0; k < count; ++k) {
             // A merged subtree (leaf-merge) may hold both parts of a triangle that a spatial split
             // cut: one lane is enough. Only a tree with more references than triangles can.
             if (references_ > primitives_ && std::find(prims, prims + k, prims[k]) != prims + k) continue;
             const auto v = prims_.triangle(prims[k]);
-            if (Prims::degenerate({v[0], v[1], v[2]})) continue;
+            if (slivers && Prims::degenerate({v[0], v[1], v[2]})) {
+                slivers->push_back(prims[k]);
+                continue;
+            }
             if (lane == 4) {
-                blocks_.emplace_back();
-                bvh8::Tri4& b = blocks_.back();
+                out.emplace_back();
+                bvh8::Tri4& b = out.back();
                 for (auto& vertex : b.v)
                     for (auto& axis : vertex)
                         for (float& x : axis) x = 0.0f;
@@ -243,14 +289,43 @@ private:
                 lane = 0;
                 ++p.size;
             }
-            bvh8::Tri4& b = blocks_.back();
+            bvh8::Tri4& b = out.back();
             for (int vertex = 0; vertex < 3; ++vertex)
                 for (int a = 0; a < 3; ++a) b.v[vertex][a][lane] = v[size_t(vertex)][a];
             b.id[lane] = prims[k];
             ++lane;
-            ++kept_;
+            if (slivers) ++kept_;
         }
         return p;
+    }
+
+    /// Degenerate triangles have no interior for rays, but their points are on the surface and
+    /// brute force answers them as closest points: they get a tree of their own (usually empty or
+    /// tiny), which only the closest-point query searches, so the ray kernels never see them.
+    /// Spatial splits may list a sliver in several leaves: each is kept once, and the sliver tree
+    /// is an object-partition one (builder=sbvh falls back to binned SAH for it).
+    void build_sliver_tree(std::vector<uint32_t> slivers, const Bvh8Options& options) {
+        std::sort(slivers.begin(), slivers.end());
+        slivers.erase(std::unique(slivers.begin(), slivers.end()), slivers.end());
+        if (slivers.empty()) return;
+        std::vector<Aabb> bounds;
+        std::vector<Vec3> centroids;
+        primitive_boxes(
+            uint32_t(slivers.size()), options.binary.threads, bounds, centroids,
+            [&](uint32_t i) { return prims_.bounds(slivers[i]); }, [&](uint32_t i) { return prims_.centroid(slivers[i]); });
+        BvhBuildOptions binary_options = options.binary;
+        if (binary_options.builder == BvhBuilder::Sbvh) binary_options.builder = BvhBuilder::BinnedSah;
+        const BvhData binary = build_bvh({bounds, centroids}, binary_options);
+        std::vector<uint32_t> ids;
+        sliver_tree_ = bvh8::collapse(
+            binary,
+            [&](uint32_t first, uint32_t count) {
+                ids.clear();
+                for (uint32_t k = 0; k < count; ++k) ids.push_back(slivers[binary.prim_indices[first + k]]);
+                return emit_blocks(sliver_blocks_, ids.data(), count, nullptr);
+            },
+            options.merge_below);
+        bvh8::validate_tree(sliver_tree_, sliver_blocks_.size());
     }
 
     /// A loaded block: each lane either the scene's non-degenerate triangle `id` bit for bit, or
@@ -278,18 +353,6 @@ private:
             ++kept_;
         }
     }
-    /// The exact box of the triangles in blocks [first, first + size).
-    Aabb blocks_bounds(uint32_t first, uint32_t size) const {
-        Aabb box;
-        for (uint32_t k = first; k < first + size; ++k)
-            for (int lane = 0; lane < 4; ++lane) {
-                if (blocks_[k].id[lane] == kNoPrim) continue;
-                for (int vertex = 0; vertex < 3; ++vertex)
-                    box.grow(Vec3{blocks_[k].v[vertex][0][lane], blocks_[k].v[vertex][1][lane], blocks_[k].v[vertex][2][lane]});
-            }
-        return box;
-    }
-
     static bool closest_leaf(const void* prims, const uint32_t* ids, uint32_t count, const Ray& ray, Hit& hit) {
         const Prims& p = *static_cast<const Prims*>(prims);
         bool found = false;
@@ -314,6 +377,9 @@ private:
     std::vector<uint32_t> ids_;
     const bvh8::KernelTable* kernels_;
     bvh8::TraceContext ctx_;
+    bvh8::Tree sliver_tree_;                       ///< degenerate triangles, for closest points only
+    AlignedVector<bvh8::Tri4, 64> sliver_blocks_;
+    bvh8::TraceContext sliver_ctx_;
 };
 
 }  // namespace thicket

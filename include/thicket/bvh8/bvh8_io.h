@@ -8,8 +8,10 @@
 #include <functional>
 #include <istream>
 #include <ostream>
+#include <span>
 #include <vector>
 
+#include "thicket/bvh/build.h"
 #include "thicket/bvh8/build.h"
 
 namespace thicket::bvh8 {
@@ -30,13 +32,16 @@ void write_tree(std::ostream& out, const Tree& tree, const AlignedVector<Tri4, 6
 /// wrong. The caller checks the leaves' contents (check_leaves) and the boxes (check_boxes).
 SavedTree read_tree(std::istream& in, size_t primitive_count);
 
-/// The exact box of a leaf lane's contents: (first, size) as stored in the node.
-using LeafBounds = std::function<Aabb(uint32_t first, uint32_t size)>;
+/// Calls `id(p)` for every primitive id a leaf lane (first, size as stored in the node) lists.
+using LeafPrimitives = std::function<void(uint32_t first, uint32_t size, const std::function<void(uint32_t)>& id)>;
 
-/// Proves that every valid lane's box encloses what lies below it (a child node's valid lanes'
-/// boxes, a leaf's `leaf_bounds`), and recomputes tree.leaves and tree.max_depth over the nodes
-/// reachable from the root. Throws Error naming the first lane that does not enclose.
-void check_boxes(Tree& tree, const LeafBounds& leaf_bounds);
+/// Proves, over the nodes reachable from the root, that every valid lane's box encloses what
+/// lies below it: a child node's valid lanes' boxes; a primitive that one leaf lists, its bounds
+/// (`prim_bounds`); a primitive that spatial splits cut into several leaves, every part of it
+/// in one of their boxes (the BVH's CoverageProof, with `clip`). Recomputes tree.leaves and
+/// tree.max_depth. Throws Error naming the first lane or primitive that is not enclosed.
+void check_boxes(Tree& tree, const LeafPrimitives& leaf_primitives, std::span<const Aabb> prim_bounds,
+                 const ClipFunction& clip);
 
 /// Calls `visit(first, size)` for every leaf lane reachable from the root.
 void for_each_leaf(const Tree& tree, const std::function<void(uint32_t first, uint32_t size)>& visit);

@@ -75,6 +75,17 @@ using BlockTestFn = uint32_t (*)(const Tri4& block, const Ray& ray, float tmax, 
 using PacketClosestFn = void (*)(const TraceContext& ctx, const Ray* rays, uint32_t count, Hit* hits);
 inline constexpr uint32_t kPacketSize = 16;
 
+/// A point query's leaf test, in the structure's baseline code (the point-triangle test brute
+/// force uses, so that distances are bitwise brute force's): tests leaf storage [first, first +
+/// size) against the query point, keeps anything closer in `query`, and returns the squared
+/// distance beyond which boxes are pruned from now on.
+using PointLeafFn = float (*)(void* query, uint32_t first, uint32_t size);
+/// Closest-point traversal of ctx's tree (nodes, and blocks to prefetch) from the root: children
+/// whose box lies within the bound are visited nearest box first, the others wait on a stack and
+/// are dropped when popped beyond the bound `leaf` returned last. p is the query point (3 floats),
+/// bound2 the starting squared bound (+inf: none).
+using PointQueryFn = void (*)(const TraceContext& ctx, const float* p, float bound2, PointLeafFn leaf, void* query);
+
 /// One ISA's kernels.
 struct KernelTable {
     const char* isa;
@@ -83,6 +94,7 @@ struct KernelTable {
     NodeTestFn node_test;
     BlockTestFn block_test;
     PacketClosestFn packet_closest[kLeafKinds];
+    PointQueryFn closest_point;
 };
 
 }  // namespace thicket::bvh8
