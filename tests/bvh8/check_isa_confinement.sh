@@ -14,12 +14,17 @@ objdump=$1 mode=$2 file=$3 pattern=${4:-}
 "$objdump" -d -C --no-show-raw-insn "$file" > "${TMPDIR:-/tmp}/bvh8-isa-$$.txt"
 found=$(awk '
   /^[0-9a-f]+ <.*>:$/ {
-    fn = substr($0, index($0, "<") + 1); sub(/>:$/, "", fn); flagged = 0; next
+    fn = substr($0, index($0, "<") + 1); sub(/>:$/, "", fn); flagged = 0; first = 1; skip = ""; next
   }
   /^ +[0-9a-f]+:\t/ {
     if (flagged) next
+    addr = $1; sub(/:$/, "", addr)
+    if (skip != "") { if (addr != skip) next; skip = "" }
     line = $0; sub(/^ +[0-9a-f]+:\t/, "", line)
     n = split(line, w, /[ \t]+/); m = w[1]
+    # clang -fsanitize=function (UBSan) starts a function with "jmp +8" over 6 bytes of data (a
+    # signature and a type hash) that objdump decodes as instructions, sometimes VEX ones: skip them.
+    if (first) { first = 0; if (m == "jmp" && line ~ /\+0x8>$/) { skip = w[2]; next } }
     if (m == "rex" || m == "lock" || m == "rep" || m == "repz" || m == "repnz" || m == "notrack" || m == "bnd" || m == "data16" || m == "cs") m = w[2]
     vex = (m ~ /^v/ && m !~ /^(verr|verw|vm(call|clear|launch|ptrld|ptrst|read|resume|write|xoff|xon|func|run|load|save|mcall))$/)
     if (vex || line ~ /%[yz]mm[0-9]/ || line ~ /%k[0-7]/) {
