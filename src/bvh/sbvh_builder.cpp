@@ -37,6 +37,23 @@ constexpr uint32_t kSpatialBins = 16;
 constexpr uint32_t kSweepMax = 256;
 constexpr uint32_t kObjectBins = 64;
 
+/// The right-hand side of every plane of N bins, swept once from the right: plane p lies between
+/// bins p and p + 1, and right_area[p] / right_count[p] are the half area of bins p + 1.. and the
+/// references that `ends[b]` says lie there (a bin's references for object splits, the ones
+/// that end in it for spatial splits). Entry N - 1 is unused.
+template <size_t N>
+void sweep_right(const std::array<Aabb, N>& bins, const std::array<uint32_t, N>& ends, std::array<float, N>& right_area,
+                 std::array<uint32_t, N>& right_count) {
+    Aabb acc;
+    uint32_t count = 0;
+    for (size_t p = N - 1; p > 0; --p) {
+        acc.grow(bins[p]);
+        count += ends[p];
+        right_area[p - 1] = acc.half_area();
+        right_count[p - 1] = count;
+    }
+}
+
 /// One reference: a primitive, or the part of it inside a region, with that part's bounds.
 struct Ref {
     Aabb box;
@@ -230,16 +247,9 @@ private:
             }
             std::array<float, kObjectBins> right_area;
             std::array<uint32_t, kObjectBins> right_count;
+            sweep_right(bins, counts, right_area, right_count);
             Aabb acc;
             uint32_t count = 0;
-            for (uint32_t p = kObjectBins - 1; p > 0; --p) {
-                acc.grow(bins[p]);
-                count += counts[p];
-                right_area[p - 1] = acc.half_area();
-                right_count[p - 1] = count;
-            }
-            acc = Aabb{};
-            count = 0;
             for (uint32_t p = 0; p + 1 < kObjectBins; ++p) {
                 acc.grow(bins[p]);
                 count += counts[p];
@@ -359,16 +369,9 @@ private:
             }
             std::array<float, kSpatialBins> right_area;
             std::array<uint32_t, kSpatialBins> right_count;
+            sweep_right(bins, exits, right_area, right_count);
             Aabb acc;
             uint32_t count = 0;
-            for (uint32_t p = kSpatialBins - 1; p > 0; --p) {  // right of plane p-1: bins p..
-                acc.grow(bins[p]);
-                count += exits[p];
-                right_area[p - 1] = acc.half_area();
-                right_count[p - 1] = count;
-            }
-            acc = Aabb{};
-            count = 0;
             for (uint32_t p = 0; p + 1 < kSpatialBins; ++p) {
                 acc.grow(bins[p]);
                 count += entries[p];
