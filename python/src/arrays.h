@@ -4,14 +4,21 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "thicket/accel/accel.h"
 #include "thicket/core/ray.h"
 #include "thicket/util/parallel.h"
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace thicket::python {
 
@@ -49,12 +56,23 @@ struct RayBatch {
 /// Converts `rows` on `threads` threads; call without the GIL.
 RayBatch make_rays(const Rows& rows, float tnear, float tfar, unsigned threads);
 
+/// Room for a chunk's kBatchGrain answers on the stack, left uninitialised: the batch call writes
+/// every answer it is asked for, and the default member initialisers of Hit or NearestPoint would
+/// cost a pass over the chunk before it.
+template <class T>
+struct Uninitialized {
+    union {
+        T data[kBatchGrain];
+    };
+    Uninitialized() {}
+};
+
 /// Rows [begin, end) of a batch as rays, converted by the thread that traces them and kept on its
 /// stack: the rays never make a round trip through memory, and no array of rays or answers as
 /// large as the batch is allocated and first touched. Rows without meaning are left out: ray k
-/// is row begin + offset[k].
+/// is row begin + k of a complete chunk, else row begin + offset[k].
 struct RayChunk {
-    Ray rays[kBatchGrain];
+    Uninitialized<Ray> rays;
     uint16_t offset[kBatchGrain];
     size_t count = 0;
     size_t begin = 0;
@@ -62,21 +80,48 @@ struct RayChunk {
     /// Whether every row became a ray (else the caller answers the others as misses first).
     bool complete() const { return count == end - begin; }
     /// The row of ray k.
-    size_t row(size_t k) const { return begin + offset[k]; }
+    size_t row(size_t k) const { return begin + (complete() ? k : offset[k]); }
 };
 
 /// Converts rows [begin, end) (at most kBatchGrain) of `rows` into `chunk`.
 void fill_chunk(const Rows& rows, float tnear, float tfar, size_t begin, size_t end, RayChunk& chunk);
 
+/// Asks for the rows [begin, end) of `rows` to be brought into the cache.
+void prefetch_rows(const Rows& rows, size_t begin, size_t end);
+
+/// Asks for [p, p + bytes) to be brought into the cache to be written.
+inline void prefetch_for_write(const void* p, size_t bytes) {
+    const char* first = static_cast<const char*>(p);
+    for (const char* q = first; q < first + bytes; q += 64) __builtin_prefetch(q, 1);
+}
+
 /// Calls f(const RayChunk&) for the rows in chunks of kBatchGrain, the library's batch chunking,
 /// on `threads` threads (0: all cores): each chunk is converted, traced and written out by one
-/// thread. Call without the GIL.
+/// thread. Each thread claims its next chunk before it traces the current one and asks for the
+/// next one's rows first, so that they arrive while it traces: a batch's rows are cold, and the
+/// conversion would otherwise wait for them. Call without the GIL.
 template <class F>
 void for_each_ray_chunk(const Rows& rows, float tnear, float tfar, unsigned threads, F&& f) {
-    parallel_for(rows.count, kBatchGrain, threads, [&](size_t begin, size_t end) {
+    const size_t chunks = (rows.count + kBatchGrain - 1) / kBatchGrain;
+    const size_t workers = std::min<size_t>(resolve_threads(threads), chunks);
+    std::atomic<size_t> next{0};
+    auto range = [&](size_t chunk) { return std::pair{chunk * kBatchGrain, std::min(rows.count, (chunk + 1) * kBatchGrain)}; };
+    parallel_for(workers, 1, unsigned(workers), [&](size_t, size_t) {
         RayChunk chunk;
-        fill_chunk(rows, tnear, tfar, begin, end, chunk);
-        f(static_cast<const RayChunk&>(chunk));
+        size_t mine = next.fetch_add(1, std::memory_order_relaxed);
+        try {
+            while (mine < chunks) {
+                const size_t ahead = next.fetch_add(1, std::memory_order_relaxed);
+                const auto [begin, end] = range(mine);
+                fill_chunk(rows, tnear, tfar, begin, end, chunk);
+                if (ahead < chunks) prefetch_rows(rows, range(ahead).first, range(ahead).second);
+                f(static_cast<const RayChunk&>(chunk));
+                mine = ahead;
+            }
+        } catch (...) {
+            next.store(chunks, std::memory_order_relaxed);  // the other threads start no further chunk
+            throw;
+        }
     });
 }
 
@@ -87,6 +132,20 @@ inline BatchOptions chunk_options(bool coherent) {
     o.threads = 1;
     o.coherent = coherent;
     return o;
+}
+
+/// Output arrays of at least this many bytes are written with non-temporal stores, which go to
+/// memory without reading the line first: a plain store to a cold line reads it in, so that
+/// cast_rays' 32 bytes of answers per ray moved 64, and the lines brought in evicted the nodes
+/// that the tracing needs. A smaller array, which the caller reads at once, goes through the cache.
+inline constexpr size_t kStreamBytes = size_t(1) << 20;
+
+/// Non-temporal stores are weakly ordered: fenced, a thread's streamed answers are seen before
+/// its later stores (the end of the parallel loop that hands the arrays back to Python among them).
+inline void stream_fence() {
+#if defined(__SSE2__)
+    _mm_sfence();
+#endif
 }
 
 /// tnear/tfar of the 6-column form; with 8 columns the row holds the interval and giving them too

@@ -181,3 +181,33 @@ def test_large_outputs_reusing_freed_memory_hold_every_answer(cornell):
     assert np.all(second["primitive_normals"][::7] == 0)
     occluded = accel.test_occlusions(rays)
     assert np.array_equal(occluded, np.isfinite(second["t_hit"]))
+
+
+@pytest.mark.parametrize("width", [8, 6])
+def test_large_batches_answer_as_small_ones_and_as_rows_one_by_one(cornell, width):
+    """A large batch's answers are written four rows at a time with non-temporal stores, a small
+    batch's through the cache, and a chunk that holds a row without a ray one row at a time: the
+    three must agree bit for bit, misses included."""
+    accel = thicket.build(cornell, "bvh8")
+    rays = random_rays(cornell, 300_000, seed=5, width=width)   # t_hit: 1.2 MB, streamed
+    rays[::5, :3] = rays[::5, :3] - 4 * rays[::5, 3:6]          # more misses: rays turned around
+    rays[::5, 3:6] *= -1
+    big = accel.cast_rays(rays)
+    assert 0.2 < np.isfinite(big["t_hit"]).mean() < 0.9
+    miss = ~np.isfinite(big["t_hit"])
+    assert np.all(big["primitive_ids"][miss] == thicket.INVALID_ID) and np.all(big["geometry_ids"][miss] == thicket.INVALID_ID)
+    assert np.all(big["geometry_ids"][~miss] == 0)
+    assert np.all(big["primitive_uvs"][miss] == 0) and np.all(big["primitive_normals"][miss] == 0)
+    small = [accel.cast_rays(rays[i:i + 1000]) for i in range(0, len(rays), 1000)]
+    gaps = np.arange(0, len(rays), 251)                         # a row without a ray in every chunk
+    invalid = np.zeros(width, np.float32)
+    with_gaps = np.insert(rays, gaps, invalid, axis=0)
+    kept = np.ones(len(with_gaps), bool)
+    kept[gaps + np.arange(len(gaps))] = False
+    one_by_one = accel.cast_rays(with_gaps)
+    for key in big:
+        assert np.array_equal(big[key], np.concatenate([s[key] for s in small])), key
+        assert np.array_equal(big[key], one_by_one[key][kept]), key
+    occluded = accel.test_occlusions(rays)
+    assert np.array_equal(occluded, ~miss)
+    assert np.array_equal(accel.test_occlusions(with_gaps)[kept], occluded)
