@@ -72,7 +72,7 @@ struct Uninitialized {
 /// large as the batch is allocated and first touched. Rows without meaning are left out: ray k
 /// is row begin + k of a complete chunk, else row begin + offset[k].
 struct RayChunk {
-    Uninitialized<Ray> rays;
+    alignas(64) Uninitialized<Ray> rays;  // no ray across two cache lines
     uint16_t offset[kBatchGrain];
     size_t count = 0;
     size_t begin = 0;
