@@ -9,12 +9,15 @@ occluded / count_hits / closest_points, the rows already converted, the answers'
 touched): in this process on the module's own structure (thicket._thicket._batch_seconds), and
 `thicket trace`'s (or `thicket closest`'s) own timing in a fresh process (one cold batch after
 loading and building); the module's is the Python call end to end (checks, conversion, tracing,
-output arrays). They take turns, as do Open3D and thicket, so that all see the same load.
+output arrays). They take turns, as do Open3D and thicket, so that all see the same load; the
+median over the passes of module / in-process batch call, each pair a moment apart, moves less
+between runs than the ratio of the two best times.
 """
 
 import argparse
 import os
 import re
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -80,8 +83,9 @@ def main():
     print(f"scene {args.scene}: {scene.primitive_count} triangles; {n} rays, {len(pts)} points in the scene's box; "
           f"best of {args.reps}, taking turns; load {os.getloadavg()[0]:.2f}\n")
 
-    print("| query | C++ batch API, in process | module | overhead | C++ batch API, `thicket` | overhead |")
-    print("|---|---|---|---|---|---|")
+    print("| query | C++ batch API, in process | module | overhead | overhead, median of pairs | "
+          "C++ batch API, `thicket` | overhead |")
+    print("|---|---|---|---|---|---|---|")
     with tempfile.TemporaryDirectory() as tmp:
         pts_path = os.path.join(tmp, "points.npy")
         np.save(pts_path, pts)
@@ -93,14 +97,16 @@ def main():
                 ("closest point", ["closest", args.scene, "--points", pts_path, "--accel", "bvh8"], "points",
                  accel.compute_closest_points, pts, "closest_point")):
             inproc = module = cli = float("inf")
+            ratios = []
             for _ in range(args.reps):  # in turns, so that all three see the same load
-                inproc = min(inproc, _thicket._batch_seconds(accel, data, kind))
-                module = min(module, timed(lambda: query(data))[0])
+                pair = _thicket._batch_seconds(accel, data, kind), timed(lambda: query(data))[0]
+                inproc, module = min(inproc, pair[0]), min(module, pair[1])
+                ratios.append(pair[1] / pair[0])  # two calls a moment apart: the steadier figure
                 cli = min(cli, cli_seconds(args.cli, cli_args, pattern))
             count = len(data)
             print(f"| {name} | {inproc * 1e3:.0f} ms ({count / inproc / 1e6:.2f} M/s) | {module * 1e3:.0f} ms "
-                  f"({count / module / 1e6:.2f} M/s) | {100 * (module / inproc - 1):+.1f}% | {cli * 1e3:.0f} ms | "
-                  f"{100 * (module / cli - 1):+.1f}% |")
+                  f"({count / module / 1e6:.2f} M/s) | {100 * (module / inproc - 1):+.1f}% | "
+                  f"{100 * (statistics.median(ratios) - 1):+.1f}% | {cli * 1e3:.0f} ms | {100 * (module / cli - 1):+.1f}% |")
     print(f"\n(load {os.getloadavg()[0]:.2f} after the table)")
 
     try:
