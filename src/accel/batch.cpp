@@ -1,5 +1,6 @@
 // Accel's batch queries: one parallel loop for every structure; what a thread does with its share
 // is the structure's (intersect_chunk / occluded_chunk).
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -49,6 +50,20 @@ void Accel::all_hits(const Ray& ray, std::vector<Hit>& out) const {
         if (!(next > rest.tmin) || !(next <= rest.tmax) || !std::isfinite(next)) return;
         rest.tmin = next;
     }
+}
+
+size_t merge_crossings(std::span<Hit> hits, std::vector<Hit>* out) {
+    std::sort(hits.begin(), hits.end(),
+              [](const Hit& a, const Hit& b) { return a.t < b.t || (a.t == b.t && a.prim < b.prim); });
+    size_t count = 0;
+    float last = 0.0f;
+    for (const Hit& hit : hits)
+        if (count == 0 || hit.t >= next_crossing_t(last)) {
+            if (out) out->push_back(hit);
+            last = hit.t;
+            ++count;
+        }
+    return count;
 }
 
 uint32_t Accel::count_hits(const Ray& ray) const {

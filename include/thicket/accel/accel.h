@@ -63,6 +63,11 @@ inline constexpr float kSameCrossing = 1e-5f;
 /// The smallest t after `t` that starts a new crossing.
 inline float next_crossing_t(float t) { return std::nextafter(t + kSameCrossing * std::fabs(t), kInfinity); }
 
+/// Sorts `hits` by t (then primitive) and merges them into crossings as Accel::all_hits steps from
+/// one to the next: a hit before next_crossing_t of the last crossing kept is the same crossing.
+/// Appends the crossings to *out (when out is not null) and returns how many there are.
+size_t merge_crossings(std::span<Hit> hits, std::vector<Hit>* out);
+
 /// Every crossing of each ray of a batch: the hits of rays[i] are hits[splits[i] .. splits[i+1]),
 /// sorted by t (Open3D's ray_splits layout; splits has one entry more than there are rays).
 struct HitLists {

@@ -54,11 +54,7 @@ public:
                 rest.tmin = next;
             }
         }
-        std::sort(roots.begin(), roots.end(),
-                  [](const Hit& a, const Hit& b) { return a.t < b.t || (a.t == b.t && a.prim < b.prim); });
-        const size_t first = out.size();  // `out` may already hold other rays' hits
-        for (const Hit& hit : roots)
-            if (out.size() == first || hit.t >= next_crossing_t(out.back().t)) out.push_back(hit);
+        merge_crossings(roots, &out);
     }
 
     /// The reference of closest_point: every primitive, the lowest id among equally close ones.

@@ -194,6 +194,28 @@ public:
     }
     bool has_closest_point() const override { return bvh8::kIsTriangles<Prims>; }
 
+    using Accel::all_hits;  // the batch forms stay visible next to the per-ray overrides
+    using Accel::count_hits;
+
+    /// Every crossing from one traversal that prunes nothing (triangle leaves): all the hits,
+    /// sorted and merged by Accel::all_hits' rule (merge_crossings), which gives the crossings
+    /// stepping from one to the next would, without a traversal per crossing. Shapes: stepping.
+    void all_hits(const Ray& ray, std::vector<Hit>& out) const override {
+        if constexpr (bvh8::kIsTriangles<Prims>)
+            every_hit(ray, [&](std::span<Hit> hits) { merge_crossings(hits, &out); });
+        else
+            Accel::all_hits(ray, out);
+    }
+    uint32_t count_hits(const Ray& ray) const override {
+        if constexpr (bvh8::kIsTriangles<Prims>) {
+            uint32_t count = 0;
+            every_hit(ray, [&](std::span<Hit> hits) { count = uint32_t(merge_crossings(hits, nullptr)); });
+            return count;
+        } else {
+            return Accel::count_hits(ray);
+        }
+    }
+
     AccelStats stats() const override {
         AccelStats s = this->base_stats();
         s.primitives = primitives_;
@@ -244,6 +266,19 @@ protected:
     }
 
 private:
+    /// Calls f(hits) with every hit of the ray (AllHitsFn's), in a buffer on the stack when they
+    /// are few.
+    template <class F>
+    void every_hit(const Ray& ray, F&& f) const {
+        if (tree_.nodes.empty()) return;
+        Hit few[64];
+        const uint32_t n = kernels_->all_hits[kLeafKind](ctx_, ray, few, 64);
+        if (n <= 64) return f(std::span<Hit>(few, n));
+        std::vector<Hit> many(n);
+        kernels_->all_hits[kLeafKind](ctx_, ray, many.data(), n);
+        f(std::span<Hit>(many));
+    }
+
     /// The packet kernels' precondition: one octant, finite 1/dir on every axis (the kernels
     /// compute 1/dir the same way).
     static bool packet_eligible(const Ray* rays, uint32_t count) {

@@ -86,6 +86,11 @@ using PointLeafFn = float (*)(void* query, uint32_t first, uint32_t size);
 /// bound2 the starting squared bound (+inf: none).
 using PointQueryFn = void (*)(const TraceContext& ctx, const float* p, float bound2, PointLeafFn leaf, void* query);
 
+/// Every hit of a ray within [ray.tmin, ray.tmax] (triangle leaves): the first `capacity` in
+/// out[], in no particular order, a primitive once per leaf that references it; returns how many
+/// there are (more than capacity: call again with room for all).
+using AllHitsFn = uint32_t (*)(const TraceContext& ctx, const Ray& ray, Hit* out, uint32_t capacity);
+
 /// One ISA's kernels.
 struct KernelTable {
     const char* isa;
@@ -95,6 +100,7 @@ struct KernelTable {
     BlockTestFn block_test;
     PacketClosestFn packet_closest[kLeafKinds];
     PointQueryFn closest_point;
+    AllHitsFn all_hits[kLeafKinds];  ///< null for leaves of shapes (Accel::all_hits answers)
 };
 
 }  // namespace thicket::bvh8
