@@ -157,8 +157,8 @@ struct Subtree {
 /// first with an explicit stack.
 void build_subtree(BuildContext& ctx, Splitter& splitter, const BvhNode& root, const Task& root_task, Subtree& out) {
     // Reserved, not filled: only the pages the subtree uses are ever touched.
-    out.nodes.reserve(2 * size_t(root.count));
-    out.order.reserve(2 * size_t(root.count));
+    reserve_huge(out.nodes, 2 * size_t(root.count));
+    reserve_huge(out.order, 2 * size_t(root.count));
     out.nodes.resize(2);
     out.order.resize(2);
     out.nodes[0] = root;
@@ -188,12 +188,15 @@ BvhData build_bvh(const BuildPrimitives& prims, const BvhBuildOptions& options) 
         return bvh;
     }
     BvhData bvh;
+    reserve_huge(bvh.prim_indices, n);
     bvh.prim_indices.resize(n);
     std::iota(bvh.prim_indices.begin(), bvh.prim_indices.end(), 0u);
     if (n == 0) return bvh;
 
     // The lecture's pool: allocated once; 2N-1 nodes suffice, plus the unused slot 1 so that
     // every sibling pair shares a cache line.
+    reserve_huge(bvh.nodes, 2 * size_t(n));
+    reserve_huge(bvh.child_order, 2 * size_t(n));
     bvh.nodes.resize(2 * size_t(n));
     bvh.child_order.assign(2 * size_t(n), 0);
     bvh.nodes_used = 2;

@@ -8,6 +8,7 @@
 #include "thicket/accel/accel.h"
 #include "thicket/bvh8/build.h"
 #include "thicket/core/error.h"
+#include "thicket/core/huge_pages.h"
 
 namespace thicket::bvh8 {
 
@@ -106,8 +107,12 @@ public:
 
     void run() {
         if (bin_.nodes_used == 0) return;
+        reserve_huge(count_, bin_.nodes.size());
+        reserve_huge(first_, bin_.nodes.size());
         count_.assign(bin_.nodes.size(), 0);
         first_.assign(bin_.nodes.size(), 0);
+        // At most one 8-wide node per binary interior node (about half the binary nodes).
+        reserve_huge(tree_.nodes, bin_.nodes_used / 2 + 1);
         count_subtrees();
         tree_.bounds = bin_.nodes[0].bounds();
         root_area_ = tree_.bounds.area();

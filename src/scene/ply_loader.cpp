@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "thicket/core/error.h"
+#include "thicket/core/huge_pages.h"
 #include "thicket/util/input_file.h"
 #include "thicket/scene/loaders.h"
 
@@ -92,6 +93,7 @@ FileBytes read_whole_file(const std::string& path) {
     if (!f) throw FileError(path + ": cannot open: " + std::strerror(errno));
     size_t capacity = size_t(expected) + 1;
     FileBytes out{std::unique_ptr<unsigned char[]>(new unsigned char[capacity]), 0};
+    advise_huge_pages(out.bytes.get(), capacity);
     // Read until EOF rather than trusting the size, so a file that changes under us stays safe.
     for (;;) {
         out.size += std::fread(out.bytes.get() + out.size, 1, capacity - out.size, f.get());
@@ -436,6 +438,7 @@ private:
         if (e.props.size() != 3) return false;
         for (int a = 0; a < 3; ++a)
             if (xyz_[a] != size_t(a) || e.props[a].type != Scalar::f32) return false;
+        reserve_huge(mesh_.positions, size_t(e.count));
         mesh_.positions.resize(size_t(e.count));
         if (e.count == 0) return true;  // data() may be null, which memcpy must not see
         std::memcpy(mesh_.positions.data(), src.cursor(), size_t(e.count) * 12);
@@ -453,6 +456,7 @@ private:
         std::vector<uint32_t>& out = mesh_.indices;
         size_t w = out.size();
         // A valid row takes at least 13 bytes, so this never exceeds what the file can hold.
+        reserve_huge(out, w + 3 * size_t(std::min<uint64_t>(e.count, src.remaining() / 13)));
         out.resize(w + 3 * size_t(std::min<uint64_t>(e.count, src.remaining() / 13)));
         uint32_t poly[255];
         for (uint64_t row = 0; row < e.count; ++row) {

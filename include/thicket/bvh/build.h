@@ -8,6 +8,7 @@
 
 #include "thicket/bvh/node.h"
 #include "thicket/core/tree_figures.h"
+#include "thicket/core/huge_pages.h"
 #include "thicket/util/parallel.h"
 
 namespace thicket {
@@ -21,6 +22,8 @@ inline constexpr uint32_t kParallelNodeSize = 16384;
 template <class GetBounds, class GetCentroid>
 void primitive_boxes(uint32_t count, unsigned threads, std::vector<Aabb>& bounds, std::vector<Vec3>& centroids,
                      GetBounds&& get_bounds, GetCentroid&& get_centroid) {
+    reserve_huge(bounds, count);
+    reserve_huge(centroids, count);
     bounds.resize(count);
     centroids.resize(count);
     parallel_for(count, kParallelNodeSize, threads, [&](size_t begin, size_t end) {

@@ -73,7 +73,7 @@ public:
             }
             // Every block holds at least one triangle: never reallocated during the collapse. One
             // per reference, not per triangle: spatial splits (sbvh) list a triangle in several leaves.
-            blocks_.reserve(binary.prim_indices.size());
+            reserve_huge(blocks_, binary.prim_indices.size());
             std::vector<uint32_t> slivers;
             tree_ = bvh8::collapse(
                 binary,

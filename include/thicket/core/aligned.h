@@ -7,9 +7,7 @@
 #include <new>
 #include <vector>
 
-#if defined(__linux__)
-#include <sys/mman.h>
-#endif
+#include "thicket/core/huge_pages.h"
 
 namespace thicket {
 
@@ -27,9 +25,7 @@ struct AlignedAllocator {
     T* allocate(std::size_t n) {
         const std::size_t bytes = n * sizeof(T);
         void* p = ::operator new(bytes, std::align_val_t(alignment(bytes)));
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-        if (bytes >= kHugeFrom) madvise(p, bytes / kHugePage * kHugePage, MADV_HUGEPAGE);  // advice only
-#endif
+        if (bytes >= kHugeFrom) advise_huge_pages(p, bytes);
         return static_cast<T*>(p);
     }
     /// Frees what allocate(n) returned (the same alignment is recomputed from n).

@@ -11,6 +11,7 @@
 #include "thicket/core/triangle.h"
 #include "thicket/prims/clip.h"
 #include "thicket/geometry/mesh.h"
+#include "thicket/core/huge_pages.h"
 
 namespace thicket {
 
@@ -23,6 +24,7 @@ public:
 
     Triangles() = default;
     explicit Triangles(const TriangleMesh& mesh) {
+        reserve_huge(tris_, mesh.triangle_count());
         tris_.resize(mesh.triangle_count());
         for (size_t i = 0; i < tris_.size(); ++i)
             tris_[i] = {mesh.vertex(i, 0), mesh.vertex(i, 1), mesh.vertex(i, 2)};
