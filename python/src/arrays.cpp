@@ -181,13 +181,6 @@ py::capsule huge_page_memory(size_t bytes, void*& data) {
 
 namespace {
 
-/// Asks for the rows [begin, end) of `width` floats all at once (for_each_ray_chunk says why).
-void prefetch_floats(const float* data, size_t width, size_t begin, size_t end) {
-    const char* first = reinterpret_cast<const char*>(data + width * begin);
-    const char* last = reinterpret_cast<const char*>(data + width * end);
-    for (const char* p = first; p < last; p += 64) __builtin_prefetch(p);
-}
-
 #if defined(__SSE2__)
 /// One row as a Ray, and whether it has a meaning (make_ray's checks: a finite origin and
 /// direction, a non-zero direction, tmin <= tmax and no NaN), without a branch: `a` holds
@@ -270,7 +263,5 @@ void fill_chunk(const Rows& rows, float tnear, float tfar, size_t begin, size_t 
     else
         fill_rows<6>(rows.data(), tnear, tfar, begin, end, chunk);
 }
-
-void prefetch_rows(const Rows& rows, size_t begin, size_t end) { prefetch_floats(rows.data(), rows.width, begin, end); }
 
 }  // namespace thicket::python

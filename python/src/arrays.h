@@ -15,6 +15,7 @@
 #include "thicket/accel/accel.h"
 #include "thicket/core/ray.h"
 #include "thicket/util/parallel.h"
+#include "thicket/util/prefetch.h"
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -86,15 +87,6 @@ struct RayChunk {
 /// Converts rows [begin, end) (at most kBatchGrain) of `rows` into `chunk`.
 void fill_chunk(const Rows& rows, float tnear, float tfar, size_t begin, size_t end, RayChunk& chunk);
 
-/// Asks for the rows [begin, end) of `rows` to be brought into the cache.
-void prefetch_rows(const Rows& rows, size_t begin, size_t end);
-
-/// Asks for [p, p + bytes) to be brought into the cache to be written.
-inline void prefetch_for_write(const void* p, size_t bytes) {
-    const char* first = static_cast<const char*>(p);
-    for (const char* q = first; q < first + bytes; q += 64) __builtin_prefetch(q, 1);
-}
-
 /// Calls f(const RayChunk&) for the rows in chunks of kBatchGrain, the library's batch chunking,
 /// on `threads` threads (0: all cores): each chunk is converted, traced and written out by one
 /// thread. Each thread claims its next chunk before it traces the current one and asks for the
@@ -114,7 +106,10 @@ void for_each_ray_chunk(const Rows& rows, float tnear, float tfar, unsigned thre
                 const size_t ahead = next.fetch_add(1, std::memory_order_relaxed);
                 const auto [begin, end] = range(mine);
                 fill_chunk(rows, tnear, tfar, begin, end, chunk);
-                if (ahead < chunks) prefetch_rows(rows, range(ahead).first, range(ahead).second);
+                if (ahead < chunks) {
+                    const auto [first, last] = range(ahead);
+                    prefetch_range(rows.data() + rows.width * first, (last - first) * rows.width * sizeof(float));
+                }
                 f(static_cast<const RayChunk&>(chunk));
                 mine = ahead;
             }
