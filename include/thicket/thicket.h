@@ -5,19 +5,25 @@
 ///   auto accel = thicket::build_accel("bvh:builder=sweep-sah", scene);
 ///   thicket::Hit hit = accel->intersect({{0, 0.1f, 1}, 0.0f, {0, 0, -1}, thicket::kInfinity});
 ///
-/// The structures by name (one folder each) for users who build them directly, and the shape
-/// kernels a Scene can hold next to triangles (prims/shapes.h).
+/// Rows of floats in, answers out (accel/ray_rows.h); closest points, distances, occupancy
+/// (accel/point_queries.h). The structures by name (one folder each) for users who build them
+/// directly, and the shape kernels a Scene can hold next to triangles (prims/shapes.h).
 #include "thicket/accel/accel.h"
+#include "thicket/accel/point_queries.h"
+#include "thicket/accel/ray_rows.h"
 #include "thicket/accel/registry.h"
 #include "thicket/bih/bih.h"
 #include "thicket/brute/brute_force.h"
 #include "thicket/bsp/bsp.h"
 #include "thicket/bvh/bvh.h"
+#include "thicket/bvh8/bvh8.h"
 #include "thicket/core/error.h"
 #include "thicket/grid/grid.h"
 #include "thicket/grid/grid2.h"
 #include "thicket/kdtree/kdtree.h"
+#include "thicket/obb/obb.h"
 #include "thicket/octree/octree.h"
 #include "thicket/prims/shapes.h"
 #include "thicket/prims/triangles.h"
 #include "thicket/scene/scene.h"
+#include "thicket/tetra/tetra.h"

@@ -1,11 +1,9 @@
 #pragma once
 // numpy arrays in and out of the module: shape and dtype checks that name what was received, the
-// conversion of ray rows to thicket::Ray, and output arrays that keep the input's leading shape.
+// rows handed to the library's ray conversion (accel/ray_rows.h), and output arrays that keep the input's leading shape.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
-#include <algorithm>
-#include <atomic>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -13,9 +11,8 @@
 #include <vector>
 
 #include "thicket/accel/accel.h"
+#include "thicket/accel/ray_rows.h"
 #include "thicket/core/ray.h"
-#include "thicket/util/parallel.h"
-#include "thicket/util/prefetch.h"
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -44,89 +41,10 @@ std::string shape_text(const py::array& a);
 /// Copies only when the array is not C-contiguous.
 Rows float32_rows(const py::handle& obj, const char* what, std::initializer_list<size_t> widths);
 
-/// Rays made from rows of 6 (ox oy oz dx dy dz, interval [tnear, tfar]) or 8 floats (the interval in
-/// the row). Rows without meaning (make_ray() refuses them) are left out and answered as misses:
-/// then `compacted` is set and `rows` lists the row of each ray.
-struct RayBatch {
-    std::vector<Ray> rays;
-    std::vector<size_t> rows;
-    bool compacted = false;
-    size_t row_of(size_t k) const { return compacted ? rows[k] : k; }
-};
-
-/// Converts `rows` on `threads` threads; call without the GIL.
-RayBatch make_rays(const Rows& rows, float tnear, float tfar, unsigned threads);
-
-/// Room for a chunk's kBatchGrain answers on the stack, left uninitialised: the batch call writes
-/// every answer it is asked for, and the default member initialisers of Hit or NearestPoint would
-/// cost a pass over the chunk before it.
-template <class T>
-struct Uninitialized {
-    union {
-        T data[kBatchGrain];
-    };
-    Uninitialized() {}
-};
-
-/// Rows [begin, end) of a batch as rays, converted by the thread that traces them and kept on its
-/// stack: the rays never make a round trip through memory, and no array of rays or answers as
-/// large as the batch is allocated and first touched. Rows without meaning are left out: ray k
-/// is row begin + k of a complete chunk, else row begin + offset[k].
-struct RayChunk {
-    alignas(64) Uninitialized<Ray> rays;  // no ray across two cache lines
-    uint16_t offset[kBatchGrain];
-    size_t count = 0;
-    size_t begin = 0;
-    size_t end = 0;
-    /// Whether every row became a ray (else the caller answers the others as misses first).
-    bool complete() const { return count == end - begin; }
-    /// The row of ray k.
-    size_t row(size_t k) const { return begin + (complete() ? k : offset[k]); }
-};
-
-/// Converts rows [begin, end) (at most kBatchGrain) of `rows` into `chunk`.
-void fill_chunk(const Rows& rows, float tnear, float tfar, size_t begin, size_t end, RayChunk& chunk);
-
-/// Calls f(const RayChunk&) for the rows in chunks of kBatchGrain, the library's batch chunking,
-/// on `threads` threads (0: all cores): each chunk is converted, traced and written out by one
-/// thread. Each thread claims its next chunk before it traces the current one and asks for the
-/// next one's rows first, so that they arrive while it traces: a batch's rows are cold, and the
-/// conversion would otherwise wait for them. Call without the GIL.
-template <class F>
-void for_each_ray_chunk(const Rows& rows, float tnear, float tfar, unsigned threads, F&& f) {
-    const size_t chunks = (rows.count + kBatchGrain - 1) / kBatchGrain;
-    const size_t workers = std::min<size_t>(resolve_threads(threads), chunks);
-    std::atomic<size_t> next{0};
-    auto range = [&](size_t chunk) { return std::pair{chunk * kBatchGrain, std::min(rows.count, (chunk + 1) * kBatchGrain)}; };
-    parallel_for(workers, 1, unsigned(workers), [&](size_t, size_t) {
-        RayChunk chunk;
-        size_t mine = next.fetch_add(1, std::memory_order_relaxed);
-        try {
-            while (mine < chunks) {
-                const size_t ahead = next.fetch_add(1, std::memory_order_relaxed);
-                const auto [begin, end] = range(mine);
-                fill_chunk(rows, tnear, tfar, begin, end, chunk);
-                if (ahead < chunks) {
-                    const auto [first, last] = range(ahead);
-                    prefetch_range(rows.data() + rows.width * first, (last - first) * rows.width * sizeof(float));
-                }
-                f(static_cast<const RayChunk&>(chunk));
-                mine = ahead;
-            }
-        } catch (...) {
-            next.store(chunks, std::memory_order_relaxed);  // the other threads start no further chunk
-            throw;
-        }
-    });
-}
-
-/// What one chunk asks of the library's batch calls: one thread (the chunk's own), so that the
-/// chunk is traced in place by the thread that converted it.
-inline BatchOptions chunk_options(bool coherent) {
-    BatchOptions o;
-    o.threads = 1;
-    o.coherent = coherent;
-    return o;
+/// The rows as the library reads them (accel/ray_rows.h): rows of 6 take [tnear, tfar] as every
+/// ray's interval, rows of 8 carry their own.
+inline RayRows ray_rows(const Rows& rows, float tnear = 0.0f, float tfar = kInfinity) {
+    return RayRows{rows.data(), rows.count, rows.width, tnear, tfar};
 }
 
 /// Output arrays of at least this many bytes are written with non-temporal stores, which go to
@@ -147,14 +65,14 @@ inline void stream_fence() {
 /// is a ValueError (which one would win is not obvious).
 void check_interval_arguments(const Rows& rows, std::optional<float> tnear, std::optional<float> tfar);
 
-/// Memory for an output array of `bytes`, or an empty handle for numpy's own allocator: a large
-/// array gets a mapping of its own, aligned to and advised for 2 MiB pages, which the capsule
-/// returned releases when the array dies (kept for the next array of the same size, up to 256
-/// MiB in all, else unmapped). Writing a batch's answers into fresh memory faults every page in;
-/// on 4 KiB pages (numpy's malloc leaves most of a 4 MiB array on them) those faults cost more
-/// than converting the rows (1M rays: 40 MB, 10^4 faults, ~100 ms on the virtualized machine
-/// measured), on 2 MiB pages one fault in 512. `data` receives the memory; its contents are
-/// undefined (every query writes every element).
+/// Memory for an output array of `bytes`, or an empty handle for numpy's own allocator: an array
+/// of 1 MiB and more gets a mapping of its own on 2 MiB pages (take_huge_mapping, core/huge_pages.h),
+/// which the capsule returned hands back to the pool when the array dies. Writing a batch's answers
+/// into fresh memory faults every page in; on 4 KiB pages (numpy's malloc leaves most of a 4 MiB
+/// array on them) those faults cost more than converting the rows (1M rays: 40 MB, 10^4 faults,
+/// ~100 ms on the virtualized machine measured), on 2 MiB pages one fault in 512, and a kept
+/// mapping none. `data` receives the memory; its contents are undefined (every query writes every
+/// element).
 py::capsule huge_page_memory(size_t bytes, void*& data);
 
 /// A new C-contiguous array of shape lead + tail, its memory untouched (the threads that write

@@ -187,7 +187,7 @@ PYBIND11_MODULE(_thicket, m) {
         if (!scene) throw py::value_error("build: scene is None");
         py::gil_scoped_release nogil;
         std::shared_ptr<const Accel> accel = build_accel(spec, *scene);
-        return AccelHandle{scene, accel, nullptr, nullptr};
+        return AccelHandle(scene, accel);
     }, "scene"_a, "spec"_a = "bvh8", "Builds a structure from a spec string NAME[:key=value,...] (see accels())");
 
     m.def("load", [](const py::object& path, std::shared_ptr<Scene> scene) {
@@ -195,7 +195,7 @@ PYBIND11_MODULE(_thicket, m) {
         const std::string p = path_argument(path);
         py::gil_scoped_release nogil;
         std::shared_ptr<const Accel> accel = load_accel(p, *scene);
-        return AccelHandle{scene, accel, nullptr, nullptr};
+        return AccelHandle(scene, accel);
     }, "path"_a, "scene"_a, "Loads a structure saved by Accel.save for the same scene");
 
     m.def("accels", &accels_list, "Every registered structure: name, summary, options, variants");

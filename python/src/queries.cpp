@@ -5,10 +5,11 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
-#include <iterator>
+#include <span>
 #include <vector>
 
-#include "thicket/accel/registry.h"
+#include "thicket/accel/point_queries.h"
+#include "thicket/accel/ray_rows.h"
 #include "thicket/core/error.h"
 #include "thicket/util/parallel.h"
 
@@ -17,13 +18,6 @@ namespace thicket::python {
 namespace {
 
 constexpr uint32_t kGeometryId = 0;  // one geometry per structure (Open3D numbers its meshes)
-
-BatchOptions batch_options(unsigned threads, bool coherent) {
-    BatchOptions o;
-    o.threads = threads;
-    o.coherent = coherent;
-    return o;
-}
 
 /// h.triangle_normals, made on first use for a triangle scene (null for a scene with shapes,
 /// whose normals depend on the hit point). Call with the GIL held; it is released while the
@@ -74,7 +68,6 @@ struct CastOutputs {
     /// normals of `table` (triangle_normals': a miss reads its zero entry at `miss_entry`). Four
     /// rows at once take a third of the instructions of four put() calls.
     void put4(size_t row, const Hit* hits, const Vec3* table, uint32_t miss_entry) const {
-        static_assert(sizeof(Hit) == 16 && offsetof(Hit, prim) == 12, "Hit is t u v prim");
         static_assert(kGeometryId == 0 && kNoPrim == 0xFFFFFFFFu, "a geometry id is the miss mask");
         __m128 ht = _mm_loadu_ps(&hits[0].t), hu = _mm_loadu_ps(&hits[1].t);
         __m128 hv = _mm_loadu_ps(&hits[2].t), hp = _mm_loadu_ps(&hits[3].t);
@@ -142,10 +135,9 @@ py::dict cast_rays(AccelHandle& h, const py::handle& rays_obj, unsigned threads,
                aligned(o.uv) && aligned(o.nrm);
     {
         py::gil_scoped_release nogil;
-        const BatchOptions one = chunk_options(coherent);
-        for_each_ray_chunk(rows, 0.0f, kInfinity, threads, [&](const RayChunk& c) {
+        for_each_ray_chunk(ray_rows(rows), threads, [&](const RayChunk& c) {
             Uninitialized<Hit> hits;
-            h.accel->intersect({c.rays.data, c.count}, {hits.data, c.count}, one);
+            h.accel->intersect_chunk(c.span(), {hits.data, c.count}, coherent);
             if (table)  // the table is cold (tracing evicts it): its misses overlap when asked for first
                 for (size_t k = 0; k < c.count; ++k)
                     if (hits.data[k].found()) __builtin_prefetch(table + hits.data[k].prim);
@@ -181,10 +173,9 @@ py::array test_occlusions(const AccelHandle& h, const py::handle& rays_obj, std:
     bool* out = result.mutable_data();
     {
         py::gil_scoped_release nogil;
-        const BatchOptions one = chunk_options(coherent);
-        for_each_ray_chunk(rows, tnear.value_or(0.0f), tfar.value_or(kInfinity), threads, [&](const RayChunk& c) {
+        for_each_ray_chunk(ray_rows(rows, tnear.value_or(0.0f), tfar.value_or(kInfinity)), threads, [&](const RayChunk& c) {
             uint8_t occluded[kBatchGrain];
-            h.accel->occluded({c.rays.data, c.count}, {occluded, c.count}, one);
+            h.accel->occluded_chunk(c.span(), {occluded, c.count}, coherent);
             if (!c.complete()) std::fill(out + c.begin, out + c.end, false);
             for (size_t k = 0; k < c.count; ++k) out[c.row(k)] = occluded[k] != 0;
         });
@@ -198,78 +189,36 @@ namespace thicket::python {
 
 namespace {
 
-/// Directions for the parity test of compute_occupancy: none along an axis or a diagonal, so that
-/// rays from grid-aligned points do not run along the edges and faces of axis-aligned meshes.
-constexpr Vec3 kParityDirections[] = {{0.5741f, 0.6327f, 0.5193f}, {-0.6811f, 0.2412f, 0.6913f},
-                                      {0.3174f, -0.8479f, 0.4247f}, {-0.4431f, -0.5077f, -0.7389f},
-                                      {0.7823f, -0.2291f, -0.5792f}};
-constexpr int kMaxSamples = int(std::size(kParityDirections));
-
 static_assert(sizeof(Vec3) == 3 * sizeof(float), "query points are read as Vec3 in place");
+
+/// Rows of 3 floats as points, in place.
+std::span<const Vec3> points_of(const Rows& rows) {
+    return {reinterpret_cast<const Vec3*>(rows.data()), rows.count};
+}
 
 /// Query points as rows of 3 floats, every one finite: a NaN or infinite point has no closest
 /// point and no inside, and the traversals assume finite origins, so it is refused up front.
 Rows query_points(const py::handle& obj) {
     Rows rows = float32_rows(obj, "query_points", {3});
-    const float* p = rows.data();
-    for (size_t i = 0; i < 3 * rows.count; ++i)
-        if (!std::isfinite(p[i]))
-            throw py::value_error("query_points: point " + std::to_string(i / 3) + " (in row order) is not finite");
+    const size_t bad = first_non_finite(points_of(rows));
+    if (bad < rows.count)
+        throw py::value_error("query_points: point " + std::to_string(bad) + " (in row order) is not finite");
     return rows;
 }
 
-/// The structure that answers closest points: the user's own when it answers them natively
-/// (brute, bvh, bvh8 over triangles), else a bvh8 over the same scene, built once on first use
-/// (without the GIL; two threads racing both build, one result is kept).
-const Accel& closest_accel(AccelHandle& h) {
-    if (h.accel->has_closest_point()) return *h.accel;
-    if (!h.closest_helper) {
-        std::shared_ptr<const Accel> helper;
-        {
-            py::gil_scoped_release nogil;
-            helper = build_accel("bvh8", *h.scene);
-            if (!helper->has_closest_point()) helper->closest_point({0, 0, 0});  // throws the reason (shapes)
-        }
-        if (!h.closest_helper) h.closest_helper = std::move(helper);
-    }
-    return *h.closest_helper;
-}
-
-/// nsamples must be odd and at most kMaxSamples: a ValueError naming it otherwise.
+/// nsamples must be odd and at most kMaxParitySamples: a ValueError naming it otherwise.
 void check_samples(int nsamples) {
-    if (nsamples < 1 || nsamples > kMaxSamples || nsamples % 2 == 0)
-        throw py::value_error("nsamples must be odd, between 1 and " + std::to_string(kMaxSamples) + ", got " +
-                              std::to_string(nsamples));
-}
-
-/// Calls f(begin, end, closest) for the points in chunks of kBatchGrain on `threads` threads,
-/// closest[k] being point begin + k's closest point; call without the GIL. As for rays, each
-/// chunk's answers stay on the stack of the thread that writes them out.
-template <class F>
-void for_each_closest_chunk(const Accel& accel, const Rows& rows, unsigned threads, F&& f) {
-    const auto* points = reinterpret_cast<const Vec3*>(rows.data());  // rows of 3 floats: Vec3's layout
-    const BatchOptions one = chunk_options(false);
-    parallel_for(rows.count, kBatchGrain, threads, [&](size_t begin, size_t end) {
-        NearestPoint closest[kBatchGrain];
-        accel.closest_points({points + begin, end - begin}, {closest, end - begin}, one);
-        f(begin, end, static_cast<const NearestPoint*>(closest));
-    });
-}
-
-/// inside[k] (1 or 0) of points [begin, end) by the parity of crossings along nsamples fixed
-/// directions, the majority deciding; traced on the calling thread.
-void inside_of(const Accel& accel, const Vec3* points, size_t begin, size_t end, int nsamples, uint8_t* inside) {
-    const size_t n = end - begin;
-    Ray rays[kBatchGrain];
-    uint32_t counts[kBatchGrain];
-    uint8_t votes[kBatchGrain] = {};
-    const BatchOptions one = chunk_options(false);
-    for (int s = 0; s < nsamples; ++s) {
-        for (size_t k = 0; k < n; ++k) rays[k] = {points[begin + k], 0.0f, kParityDirections[s], kInfinity};
-        accel.count_hits({rays, n}, {counts, n}, one);
-        for (size_t k = 0; k < n; ++k) votes[k] += counts[k] & 1;
+    try {
+        check_parity_samples(nsamples);
+    } catch (const Error& e) {
+        throw py::value_error(e.what());
     }
-    for (size_t k = 0; k < n; ++k) inside[k] = 2 * votes[k] > nsamples ? 1 : 0;
+}
+
+/// The structure that answers closest points, built (once, without the GIL) on first use.
+const Accel& closest_accel(const AccelHandle& h) {
+    py::gil_scoped_release nogil;
+    return h.points->closest_accel();
 }
 
 }  // namespace
@@ -280,12 +229,9 @@ py::array count_intersections(const AccelHandle& h, const py::handle& rays_obj, 
     int32_t* out = result.mutable_data();
     {
         py::gil_scoped_release nogil;
-        const BatchOptions one = chunk_options(false);
-        for_each_ray_chunk(rows, 0.0f, kInfinity, threads, [&](const RayChunk& c) {
-            uint32_t counts[kBatchGrain];
-            h.accel->count_hits({c.rays.data, c.count}, {counts, c.count}, one);
+        for_each_ray_chunk(ray_rows(rows), threads, [&](const RayChunk& c) {
             if (!c.complete()) std::fill(out + c.begin, out + c.end, 0);
-            for (size_t k = 0; k < c.count; ++k) out[c.row(k)] = int32_t(counts[k]);
+            for (size_t k = 0; k < c.count; ++k) out[c.row(k)] = int32_t(h.accel->count_hits(c.rays.data[k]));
         });
     }
     return result;
@@ -293,12 +239,12 @@ py::array count_intersections(const AccelHandle& h, const py::handle& rays_obj, 
 
 py::dict list_intersections(const AccelHandle& h, const py::handle& rays_obj, unsigned threads) {
     const Rows rows = float32_rows(rays_obj, "rays", {6, 8});
-    RayBatch batch;
     HitLists lists;
     {
         py::gil_scoped_release nogil;
-        batch = make_rays(rows, 0.0f, kInfinity, threads);
-        lists = h.accel->all_hits(batch.rays, batch_options(threads, false));
+        BatchOptions options;
+        options.threads = threads;
+        lists = crossing_lists(*h.accel, ray_rows(rows), options);
     }
     const size_t n = lists.hits.size();
     if (n > size_t(UINT32_MAX)) throw Error("list_intersections: more than 2^32 - 1 crossings; cast fewer rays at once");
@@ -316,13 +262,9 @@ py::dict list_intersections(const AccelHandle& h, const py::handle& rays_obj, un
     float* uv = uvs.mutable_data();
     {
         py::gil_scoped_release nogil;
-        // Rows without a ray have no crossings: their split repeats the previous one.
-        size_t k = 0;
-        sp[0] = 0;
-        for (size_t row = 0; row < rows.count; ++row) {
-            const bool has_ray = k < batch.rays.size() && batch.row_of(k) == row;
-            const size_t end = has_ray ? lists.splits[k + 1] : sp[row];
-            for (size_t j = sp[row]; j < end; ++j) {
+        for (size_t row = 0; row <= rows.count; ++row) sp[row] = uint32_t(lists.splits[row]);
+        for (size_t row = 0; row < rows.count; ++row)
+            for (size_t j = lists.splits[row]; j < lists.splits[row + 1]; ++j) {
                 const Hit& hit = lists.hits[j];
                 ids[j] = uint32_t(row);
                 t[j] = hit.t;
@@ -331,9 +273,6 @@ py::dict list_intersections(const AccelHandle& h, const py::handle& rays_obj, un
                 uv[2 * j] = hit.u;
                 uv[2 * j + 1] = hit.v;
             }
-            sp[row + 1] = uint32_t(end);
-            k += has_ray;
-        }
     }
     py::dict out;
     out["ray_splits"] = splits;
@@ -347,7 +286,7 @@ py::dict list_intersections(const AccelHandle& h, const py::handle& rays_obj, un
 
 py::dict compute_closest_points(AccelHandle& h, const py::handle& points_obj, unsigned threads) {
     const Rows rows = query_points(points_obj);
-    const Accel& accel = closest_accel(h);
+    closest_accel(h);
     auto points = new_array<float>(rows.lead, {3});
     auto geometry_ids = new_array<uint32_t>(rows.lead);
     auto primitive_ids = new_array<uint32_t>(rows.lead);
@@ -360,7 +299,7 @@ py::dict compute_closest_points(AccelHandle& h, const py::handle& points_obj, un
     float* nrm = normals.mutable_data();
     {
         py::gil_scoped_release nogil;
-        for_each_closest_chunk(accel, rows, threads, [&](size_t begin, size_t end, const NearestPoint* closest) {
+        h.points->for_each_closest_chunk(points_of(rows), threads, [&](size_t begin, size_t end, const NearestPoint* closest) {
             for (size_t i = begin; i < end; ++i) {
                 const NearestPoint& s = closest[i - begin];
                 const bool found = s.found();
@@ -385,14 +324,13 @@ py::dict compute_closest_points(AccelHandle& h, const py::handle& points_obj, un
 
 py::array compute_distance(AccelHandle& h, const py::handle& points_obj, unsigned threads) {
     const Rows rows = query_points(points_obj);
-    const Accel& accel = closest_accel(h);
+    closest_accel(h);
     auto result = new_array<float>(rows.lead);
-    float* out = result.mutable_data();
     {
         py::gil_scoped_release nogil;
-        for_each_closest_chunk(accel, rows, threads, [&](size_t begin, size_t end, const NearestPoint* closest) {
-            for (size_t i = begin; i < end; ++i) out[i] = closest[i - begin].distance;
-        });
+        BatchOptions options;
+        options.threads = threads;
+        h.points->distances(points_of(rows), {result.mutable_data(), rows.count}, options);
     }
     return result;
 }
@@ -404,10 +342,10 @@ py::array compute_occupancy(const AccelHandle& h, const py::handle& points_obj, 
     float* out = result.mutable_data();
     {
         py::gil_scoped_release nogil;
-        const auto* points = reinterpret_cast<const Vec3*>(rows.data());
+        const std::span<const Vec3> points = points_of(rows);
         parallel_for(rows.count, kBatchGrain, threads, [&](size_t begin, size_t end) {
             uint8_t inside[kBatchGrain];
-            inside_of(*h.accel, points, begin, end, nsamples, inside);
+            inside_by_parity(*h.accel, points.subspan(begin, end - begin), nsamples, {inside, end - begin});
             for (size_t i = begin; i < end; ++i) out[i] = inside[i - begin] ? 1.0f : 0.0f;
         });
     }
@@ -417,18 +355,13 @@ py::array compute_occupancy(const AccelHandle& h, const py::handle& points_obj, 
 py::array compute_signed_distance(AccelHandle& h, const py::handle& points_obj, unsigned threads, int nsamples) {
     const Rows rows = query_points(points_obj);
     check_samples(nsamples);
-    const Accel& accel = closest_accel(h);
+    closest_accel(h);
     auto result = new_array<float>(rows.lead);
-    float* out = result.mutable_data();
     {
         py::gil_scoped_release nogil;
-        const auto* points = reinterpret_cast<const Vec3*>(rows.data());
-        for_each_closest_chunk(accel, rows, threads, [&](size_t begin, size_t end, const NearestPoint* closest) {
-            uint8_t inside[kBatchGrain];
-            inside_of(*h.accel, points, begin, end, nsamples, inside);
-            for (size_t i = begin; i < end; ++i)
-                out[i] = inside[i - begin] ? -closest[i - begin].distance : closest[i - begin].distance;
-        });
+        BatchOptions options;
+        options.threads = threads;
+        h.points->signed_distances(points_of(rows), {result.mutable_data(), rows.count}, nsamples, options);
     }
     return result;
 }
@@ -440,8 +373,8 @@ double batch_seconds(AccelHandle& h, const py::handle& rows_obj, const std::stri
         const Rows rows = query_points(rows_obj);
         const Accel& accel = closest_accel(h);
         py::gil_scoped_release nogil;
-        const auto* p = reinterpret_cast<const Vec3*>(rows.data());
-        const std::vector<Vec3> points(p, p + rows.count);
+        const std::span<const Vec3> rows_points = points_of(rows);
+        const std::vector<Vec3> points(rows_points.begin(), rows_points.end());
         std::vector<NearestPoint> out(rows.count);
         const auto start = std::chrono::steady_clock::now();
         accel.closest_points(points, out, options);
@@ -451,7 +384,7 @@ double batch_seconds(AccelHandle& h, const py::handle& rows_obj, const std::stri
         throw py::value_error("query must be closest, any, count or closest_point, got " + query);
     const Rows rows = float32_rows(rows_obj, "rays", {6, 8});
     py::gil_scoped_release nogil;
-    const RayBatch batch = make_rays(rows, 0.0f, kInfinity, threads);
+    const RayBatch batch = make_rays(ray_rows(rows), threads);
     std::vector<Hit> hits(query == "closest" ? batch.rays.size() : 0);
     std::vector<uint8_t> occluded(query == "any" ? batch.rays.size() : 0);
     std::vector<uint32_t> counts(query == "count" ? batch.rays.size() : 0);

@@ -7,10 +7,12 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "arrays.h"
 #include "thicket/accel/accel.h"
+#include "thicket/accel/point_queries.h"
 #include "thicket/scene/scene.h"
 
 namespace thicket::python {
@@ -18,11 +20,13 @@ namespace thicket::python {
 /// A structure and the scene it was built over (normals and closest points need the scene; the
 /// structure must not outlive it).
 struct AccelHandle {
+    AccelHandle(std::shared_ptr<const Scene> s, std::shared_ptr<const Accel> a)
+        : scene(std::move(s)), accel(std::move(a)), points(std::make_unique<PointQueries>(*accel, *scene)) {}
     std::shared_ptr<const Scene> scene;
     std::shared_ptr<const Accel> accel;
-    /// A `bvh8` over the same scene, built on the first closest-point query when `accel` cannot
-    /// answer those itself (only ever touched with the GIL held).
-    std::shared_ptr<const Accel> closest_helper;
+    /// The library's point queries over both (closest points from a bvh8 built on first use when
+    /// `accel` cannot answer them itself).
+    std::unique_ptr<PointQueries> points;
     /// Scene::normal of every triangle of a triangle scene, made on its first cast_rays (only
     /// ever touched with the GIL held): cast_rays writes one normal per hit, and one load from
     /// here costs a sixth of the index and vertex loads (and the square root) behind Scene::normal.

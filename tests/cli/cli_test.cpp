@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -506,4 +507,56 @@ TEST_F(CliTest, SponzaEveryVariantAgreesWithBruteForce) {
         ++tested;
     }
     EXPECT_GT(tested, 0u);
+}
+
+namespace {
+
+// Two closed boxes, [-1, 1]^3 and [-0.5, 0.5]^3, as an OBJ file: inside only between them.
+void write_nested_boxes(const std::string& file) {
+    std::ofstream out(file);
+    for (float h : {1.0f, 0.5f})
+        for (int k = 0; k < 8; ++k) out << "v " << (k & 1 ? h : -h) << ' ' << (k & 2 ? h : -h) << ' ' << (k & 4 ? h : -h) << '\n';
+    const int faces[6][4] = {{1, 3, 4, 2}, {5, 6, 8, 7}, {1, 2, 6, 5}, {3, 7, 8, 4}, {1, 5, 7, 3}, {2, 4, 8, 6}};
+    for (int base : {0, 8})
+        for (const auto& f : faces) out << "f " << base + f[0] << ' ' << base + f[1] << ' ' << base + f[2] << ' ' << base + f[3] << '\n';
+}
+
+}  // namespace
+
+TEST_F(CliTest, OccupancyAndSignedClosestAnswerAsTheLibraryForAnyStructure) {
+    write_nested_boxes(path("boxes.obj"));
+    const std::vector<float> points = {0, 0, 0, 0.75f, 0, 0, 0, -0.8f, 0.1f, 1.5f, 0, 0, 0.2f, 0.1f, -0.3f};
+    const std::vector<uint8_t> want_inside = {0, 1, 1, 0, 0};
+    write_npy_f32(path("points.npy"), {5, 3}, points);
+    for (const char* accel : {"grid", "bvh8", "kdtree"}) {
+        RunResult r = run_cli("occupancy " + q("boxes.obj") + " --accel " + accel + " --samples 5 -p " + q("points.npy") +
+                              " -o " + q("inside.npy") + " --force");
+        ASSERT_EQ(r.code, 0) << r.output;
+        EXPECT_NE(r.output.find("inside  2 of 5 points"), std::string::npos) << r.output;
+        EXPECT_EQ(read_npy_u8(path("inside.npy")), want_inside) << accel;
+    }
+    // closest --signed with a structure that answers no closest points itself: the bvh8 fallback.
+    RunResult r = run_cli("closest " + q("boxes.obj") + " --accel grid --signed -p " + q("points.npy") + " -o " +
+                          q("closest.npy"));
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("a bvh8 over the same scene answers them"), std::string::npos) << r.output;
+    std::ifstream in(path("closest.npy"), std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_GT(bytes.size(), 5u * 28);
+    const char* records = bytes.data() + bytes.size() - 5 * 28;  // x y z distance prim u v, 28 bytes each
+    const Scene scene = load_scene(path("boxes.obj"));
+    const auto brute = build_accel("brute", scene);
+    for (size_t i = 0; i < 5; ++i) {
+        float distance;
+        uint32_t prim;
+        std::memcpy(&distance, records + 28 * i + 12, 4);
+        std::memcpy(&prim, records + 28 * i + 16, 4);
+        const NearestPoint want = brute->closest_point({points[3 * i], points[3 * i + 1], points[3 * i + 2]});
+        EXPECT_EQ(prim, want.prim) << i;
+        EXPECT_FLOAT_EQ(distance, want_inside[i] ? -want.distance : want.distance) << i;
+    }
+    r = run_cli("occupancy " + q("boxes.obj") + " --samples 4 -p " + q("points.npy") + " -o " + q("x.npy"));
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.output.find("nsamples must be odd"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(path("x.npy")));
 }

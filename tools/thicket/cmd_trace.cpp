@@ -1,14 +1,13 @@
 // `thicket trace`: closest-hit or any-hit queries for a batch of rays from a .npy file.
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 
 #include "common.h"
+#include "thicket/accel/ray_rows.h"
 #include "thicket/core/error.h"
 #include "thicket/util/npy.h"
-#include "thicket/util/parallel.h"
 #include "thicket/util/progress.h"
 
 namespace thicket::cli {
@@ -28,27 +27,27 @@ struct TraceArgs {
     unsigned threads = 0;
 };
 
-/// --count and --all: every surface crossing of each valid ray (Accel::all_hits), invalid rows
-/// counted as 0 crossings. --all writes records (ray, t, prim, u, v), by ray then t.
-void write_crossings(const TraceArgs& args, const std::string& output, const Accel& accel,
-                     const std::vector<Ray>& valid, const std::vector<size_t>& row_of, size_t n,
+/// --count and --all: every surface crossing of each row's ray (Accel::all_hits), rows without a
+/// ray counted as 0 crossings. --all writes records (ray, t, prim, u, v), by ray then t.
+void write_crossings(const TraceArgs& args, const std::string& output, const Accel& accel, const RayRows& rows,
                      const BatchOptions& batch) {
     const auto start = std::chrono::steady_clock::now();
     if (args.count) {
-        std::vector<uint32_t> valid_counts(valid.size()), counts(n, 0);
-        accel.count_hits(valid, valid_counts, batch);
+        std::vector<uint32_t> counts(rows.count);
+        crossing_counts(accel, rows, counts, batch);
         size_t total = 0;
-        for (size_t k = 0; k < valid.size(); ++k) counts[row_of[k]] = valid_counts[k], total += valid_counts[k];
-        std::printf("count   %zu crossings of %zu rays in %s\n", total, n, format_duration(ms_since(start) / 1000).c_str());
+        for (uint32_t c : counts) total += c;
+        std::printf("count   %zu crossings of %zu rays in %s\n", total, rows.count,
+                    format_duration(ms_since(start) / 1000).c_str());
         write_npy_u32(output, counts);
         return;
     }
-    const HitLists lists = accel.all_hits(valid, batch);
+    const HitLists lists = crossing_lists(accel, rows, batch);
     std::vector<unsigned char> records(lists.hits.size() * 20);
-    for (size_t k = 0; k < valid.size(); ++k)
-        for (size_t j = lists.splits[k]; j < lists.splits[k + 1]; ++j) {
+    for (size_t row = 0; row < rows.count; ++row)
+        for (size_t j = lists.splits[row]; j < lists.splits[row + 1]; ++j) {
             const Hit& h = lists.hits[j];
-            const uint32_t ray = uint32_t(row_of[k]);
+            const uint32_t ray = uint32_t(row);
             unsigned char* r = records.data() + 20 * j;
             std::memcpy(r, &ray, 4);
             std::memcpy(r + 4, &h.t, 4);
@@ -56,7 +55,7 @@ void write_crossings(const TraceArgs& args, const std::string& output, const Acc
             std::memcpy(r + 12, &h.u, 4);
             std::memcpy(r + 16, &h.v, 4);
         }
-    std::printf("all     %zu crossings of %zu rays in %s\n", lists.hits.size(), n,
+    std::printf("all     %zu crossings of %zu rays in %s\n", lists.hits.size(), rows.count,
                 format_duration(ms_since(start) / 1000).c_str());
     write_npy_records(output, {{"ray", "<u4"}, {"t", "<f4"}, {"prim", "<u4"}, {"u", "<f4"}, {"v", "<f4"}},
                       lists.hits.size(), records);
@@ -72,53 +71,33 @@ int run_trace(const TraceArgs& args) {
     const Scene scene = load_scene_verbose(args.scene);
     const std::unique_ptr<Accel> accel = make_accel_verbose(args.accel, spec, scene, args.threads);
 
-    // Rows without meaning are answered as misses; the others are traced as one batch.
-    std::vector<Ray> valid;
-    std::vector<size_t> row_of;
-    valid.reserve(n);
-    row_of.reserve(n);
-    for (size_t i = 0; i < n; ++i) {
-        Ray ray;
-        if (!make_ray(&rays.values[8 * i], ray)) continue;
-        valid.push_back(ray);
-        row_of.push_back(i);
-    }
-    const size_t invalid = n - valid.size();
+    // Rows without a meaning are answered as misses (accel/ray_rows.h, as the Python module does).
+    const RayRows rows{rays.values.data(), n, 8};
     if ((args.count || args.all) && n > UINT32_MAX) throw Error(args.rays + ": more than 2^32 - 1 rays for --count or --all");
     if (args.count || args.all) {
         BatchOptions batch;
         batch.threads = args.threads;
-        write_crossings(args, output, *accel, valid, row_of, n, batch);
+        write_crossings(args, output, *accel, rows, batch);
         std::printf("wrote   %s\n", args.output.c_str());
         return 0;
     }
 
     std::vector<Hit> hits(args.any_hit ? 0 : n);
     std::vector<uint8_t> occluded(args.any_hit ? n : 0);
-    std::vector<Hit> valid_hits(args.any_hit ? 0 : valid.size());
-    std::vector<uint8_t> valid_occluded(args.any_hit ? valid.size() : 0);
-    Progress progress("trace", valid.size(), "rays");
+    Progress progress("trace", n, "rays");
     BatchOptions batch;
     batch.threads = args.threads;
     batch.coherent = args.coherent;
     batch.progress = [&](size_t done) { progress.advance(done); };
     const auto start = std::chrono::steady_clock::now();
-    if (args.any_hit)
-        accel->occluded(valid, valid_occluded, batch);
-    else
-        accel->intersect(valid, valid_hits, batch);
+    const size_t invalid = args.any_hit ? occlusions(*accel, rows, occluded, batch) : closest_hits(*accel, rows, hits, batch);
     const double seconds = ms_since(start) / 1000.0;
     progress.finish();
     size_t found = 0;
-    for (size_t k = 0; k < valid.size(); ++k) {
-        if (args.any_hit) {
-            occluded[row_of[k]] = valid_occluded[k];
-            found += valid_occluded[k];
-        } else if (valid_hits[k].found()) {  // a miss keeps Hit{}: t = +inf, not the ray's tmax
-            hits[row_of[k]] = valid_hits[k];
-            ++found;
-        }
-    }
+    if (args.any_hit)
+        for (uint8_t o : occluded) found += o;
+    else
+        for (const Hit& h : hits) found += h.found();
 
     std::printf("trace   %s %s rays in %s, %s rays/s: %zu %s, %zu not\n", args.any_hit ? "any-hit" : "closest-hit",
                 format_si(double(n)).c_str(), format_duration(seconds).c_str(),

@@ -6,6 +6,7 @@
 #include "bench_commands.h"
 #include "common.h"
 #include "cost_command.h"
+#include "point_commands.h"
 #include "thicket/core/error.h"
 
 #ifndef THICKET_VERSION
@@ -22,7 +23,7 @@ int main(int argc, char** argv) {
     std::vector<thicket::cli::Command> commands;
     try {
         commands = {thicket::cli::add_render_command(app), thicket::cli::add_trace_command(app),
-                    thicket::cli::add_closest_command(app),
+                    thicket::cli::add_closest_command(app), thicket::cli::add_occupancy_command(app),
                     thicket::cli::add_info_command(app), thicket::cli::add_build_command(app),
                     thicket::cli::add_accels_command(app), thicket::cli::add_rays_command(app),
                     thicket::cli::add_bench_command(app), thicket::cli::add_compare_command(app),

@@ -130,12 +130,15 @@ public:
         build_ms_ = build_ms;
     }
 
-protected:
-    /// One thread's share of a batch (the batch functions split the rays and call these): the
-    /// default asks intersect()/occluded() ray by ray; a structure overrides them to trace
-    /// groups of rays together, with the same answers.
+    /// One thread's share of a batch (at most kBatchGrain rays), answered on the calling thread:
+    /// the batch functions split the rays and call these, and so do the row readers
+    /// (accel/ray_rows.h), whose threads convert and answer a chunk each. The default asks
+    /// intersect()/occluded() ray by ray; a structure overrides them to trace groups of rays
+    /// together, with the same answers.
     virtual void intersect_chunk(std::span<const Ray> rays, std::span<Hit> hits, bool coherent) const;
     virtual void occluded_chunk(std::span<const Ray> rays, std::span<uint8_t> occluded, bool coherent) const;
+
+protected:
 
     /// Stats with the fields every structure shares already filled in.
     AccelStats base_stats() const {

@@ -24,4 +24,22 @@ void reserve_huge(Vector& v, size_t n) {
     advise_huge_pages(v.data(), v.capacity() * sizeof(typename Vector::value_type));
 }
 
+/// A private anonymous mapping on 2 MiB pages: `start` is 2 MiB-aligned and `length` a multiple
+/// of 2 MiB. An empty one (start null) when the system refuses it.
+struct HugeMapping {
+    void* start = nullptr;
+    size_t length = 0;
+};
+
+/// A mapping of at least `bytes`, advised for huge pages: one released earlier with the same
+/// length when the pool has it (its pages already faulted in: a loop over batches asks for the
+/// same sizes every call, and the kernel zeroes a fresh 2 MiB page at ~5-10 GB/s), else a fresh
+/// one. Its contents are undefined. Thread-safe. Off Linux, or without MADV_HUGEPAGE, always empty.
+HugeMapping take_huge_mapping(size_t bytes);
+
+/// Hands a mapping from take_huge_mapping back: kept for the next take of the same length while
+/// the pool holds at most kHugePoolBytes, else unmapped. Thread-safe.
+void release_huge_mapping(const HugeMapping& mapping);
+inline constexpr size_t kHugePoolBytes = size_t(256) << 20;
+
 }  // namespace thicket

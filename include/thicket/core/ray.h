@@ -1,6 +1,7 @@
 #pragma once
 /// Ray and hit records shared by every structure and primitive.
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 
@@ -45,6 +46,11 @@ struct Hit {
 
     constexpr bool found() const { return prim != kNoPrim; }
 };
+// The layout is part of the contract: the Python module transposes four hits at a time with SSE,
+// and the .npy hit records (t, prim, u, v) are written from it.
+static_assert(sizeof(Hit) == 16 && offsetof(Hit, t) == 0 && offsetof(Hit, u) == 4 && offsetof(Hit, v) == 8 &&
+                  offsetof(Hit, prim) == 12,
+              "Hit is t u v prim, 16 bytes");
 
 /// Starts a closest-hit query: the search interval's far end is the ray's tmax.
 constexpr Hit miss_for(const Ray& ray) { return Hit{ray.tmax, 0.0f, 0.0f, kNoPrim}; }

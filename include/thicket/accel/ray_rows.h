@@ -1,0 +1,126 @@
+#pragma once
+/// Rays as their users hold them: rows of floats (a .npy file, a numpy array, a buffer), turned
+/// into rays chunk by chunk and answered in place. Every front end (the `thicket` tool, the Python
+/// module) reads rows through here, so a row means the same ray everywhere: make_ray() (core/ray.h)
+/// says which rows have a meaning, and a row without one is answered as a miss.
+#include <algorithm>
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "thicket/accel/accel.h"
+#include "thicket/core/ray.h"
+#include "thicket/util/parallel.h"
+#include "thicket/util/prefetch.h"
+
+namespace thicket {
+
+/// `count` rows of `width` floats at `data`: width 8 is ox oy oz dx dy dz tmin tmax; width 6 is
+/// ox oy oz dx dy dz, every row with the interval [tmin, tmax] given here.
+struct RayRows {
+    const float* data = nullptr;
+    size_t count = 0;
+    size_t width = 8;
+    float tmin = 0.0f;
+    float tmax = kInfinity;
+};
+
+/// Throws Error unless `rows` has width 6 or 8 (the only layouts fill_chunk reads).
+void check_ray_rows(const RayRows& rows);
+
+/// Room for `N` values of T on the stack, left uninitialised: a batch call writes every answer it
+/// is asked for, and the default member initialisers of Hit, Ray or NearestPoint would cost a pass
+/// over the chunk before it.
+template <class T, size_t N = kBatchGrain>
+struct Uninitialized {
+    union {
+        T data[N];
+    };
+    Uninitialized() {}
+};
+
+/// Rows [begin, end) of a batch as rays, converted by the thread that traces them and kept on its
+/// stack: the rays never make a round trip through memory, and no array of rays or answers as
+/// large as the batch is allocated and first touched. Rows without a meaning are left out: ray k
+/// is row begin + k of a complete chunk, else row begin + offset[k].
+struct RayChunk {
+    alignas(64) Uninitialized<Ray> rays;  // no ray across two cache lines
+    uint16_t offset[kBatchGrain];
+    size_t count = 0;
+    size_t begin = 0;
+    size_t end = 0;
+    /// Whether every row became a ray (else the caller answers the others as misses first).
+    bool complete() const { return count == end - begin; }
+    /// The row of ray k.
+    size_t row(size_t k) const { return begin + (complete() ? k : offset[k]); }
+    std::span<const Ray> span() const { return {rays.data, count}; }
+};
+
+/// Converts rows [begin, end) (at most kBatchGrain) of `rows` into `chunk`, with make_ray()'s checks.
+void fill_chunk(const RayRows& rows, size_t begin, size_t end, RayChunk& chunk);
+
+/// Calls f(const RayChunk&) for the rows in chunks of kBatchGrain on `threads` threads (0: all
+/// cores): each chunk is converted, answered and written out by one thread, which asks the
+/// structure for that chunk alone (Accel::intersect_chunk and its kin): the batch is split once.
+/// Each thread claims its next chunk before it handles the current one and asks for the next
+/// one's rows first, so that they arrive while it traces: a batch's rows are cold, and the
+/// conversion would otherwise wait for them. An exception from f stops every thread's next chunk
+/// and reaches the caller.
+template <class F>
+void for_each_ray_chunk(const RayRows& rows, unsigned threads, F&& f) {
+    const size_t chunks = (rows.count + kBatchGrain - 1) / kBatchGrain;
+    const size_t workers = std::min<size_t>(resolve_threads(threads), chunks);
+    std::atomic<size_t> next{0};
+    auto range = [&](size_t chunk) {
+        return std::pair{chunk * kBatchGrain, std::min(rows.count, (chunk + 1) * kBatchGrain)};
+    };
+    parallel_for(workers, 1, unsigned(workers), [&](size_t, size_t) {
+        RayChunk chunk;
+        size_t mine = next.fetch_add(1, std::memory_order_relaxed);
+        try {
+            while (mine < chunks) {
+                const size_t ahead = next.fetch_add(1, std::memory_order_relaxed);
+                const auto [begin, end] = range(mine);
+                fill_chunk(rows, begin, end, chunk);
+                if (ahead < chunks) {
+                    const auto [first, last] = range(ahead);
+                    prefetch_range(rows.data + rows.width * first, (last - first) * rows.width * sizeof(float));
+                }
+                f(static_cast<const RayChunk&>(chunk));
+                mine = ahead;
+            }
+        } catch (...) {
+            next.store(chunks, std::memory_order_relaxed);  // the other threads start no further chunk
+            throw;
+        }
+    });
+}
+
+/// The rays of a whole batch of rows, for the queries that need them all at once (all_hits'
+/// lists): rows without a meaning are left out, and then `compacted` is set and `rows` lists the
+/// row of each ray.
+struct RayBatch {
+    std::vector<Ray> rays;
+    std::vector<size_t> rows;
+    bool compacted = false;
+    size_t row_of(size_t k) const { return compacted ? rows[k] : k; }
+};
+
+/// Converts every row on `threads` threads (0: all cores).
+RayBatch make_rays(const RayRows& rows, unsigned threads);
+
+/// What the front ends answer for each row (a row without a ray answers a miss: Hit{}, not
+/// occluded, no crossing). `out` receives one answer per row, in row order; `options.progress`
+/// hears of every chunk; each returns the number of rows without a ray. These are the one path from rows to answers that `thicket trace` and the
+/// tests use; the Python module writes its numpy outputs from the same chunks (for_each_ray_chunk).
+size_t closest_hits(const Accel& accel, const RayRows& rows, std::span<Hit> out, const BatchOptions& options = {});
+size_t occlusions(const Accel& accel, const RayRows& rows, std::span<uint8_t> out, const BatchOptions& options = {});
+size_t crossing_counts(const Accel& accel, const RayRows& rows, std::span<uint32_t> out,
+                       const BatchOptions& options = {});
+/// Every crossing of every row: the crossings of row i are hits[splits[i] .. splits[i+1]) (a row
+/// without a ray has none).
+HitLists crossing_lists(const Accel& accel, const RayRows& rows, const BatchOptions& options = {});
+
+}  // namespace thicket
