@@ -44,13 +44,13 @@ TraceResult trace_path(const RenderScene& rs, const Accel& accel, const Camera& 
     const bool use_light = options.strategy != LightStrategy::BsdfOnly;
     const bool use_bsdf_hits = options.strategy != LightStrategy::LightOnly;
 
-    const int tiles_x = (W + kTraceTile - 1) / kTraceTile, tiles_y = (H + kTraceTile - 1) / kTraceTile;
+    const Tiling tiling{W, H};
     std::atomic<uint64_t> rays_traced{0};
     Progress progress("render", uint64_t(W) * uint64_t(H) * options.spp, "samples", options.progress);
     progress.show_rate_of("rays");
     const auto start = std::chrono::steady_clock::now();
 
-    parallel_for(size_t(tiles_x) * size_t(tiles_y), 1, options.threads, [&](size_t tile_begin, size_t tile_end) {
+    parallel_for(tiling.count(), 1, options.threads, [&](size_t tile_begin, size_t tile_end) {
         std::vector<PathState> paths;
         std::vector<uint32_t> pixel_of;  // image index of each tile pixel
         std::vector<uint32_t> active, next_active;
@@ -62,7 +62,7 @@ TraceResult trace_path(const RenderScene& rs, const Accel& accel, const Camera& 
         batch.threads = 1;  // the tiles are the parallel loop
         uint64_t local_rays = 0, reported_rays = 0;
         for (size_t tile = tile_begin; tile < tile_end; ++tile) {
-            tile_pixels(tile, tiles_x, W, H, pixel_of);
+            tiling.pixels(tile, pixel_of);
             const uint32_t np = uint32_t(pixel_of.size());
             const uint32_t wave_spp = std::max<uint32_t>(1, kTraceWave / np);
             for (uint32_t s0 = 0; s0 < options.spp; s0 += wave_spp) {

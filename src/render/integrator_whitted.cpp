@@ -144,15 +144,15 @@ TraceResult trace_whitted(const RenderScene& rs, const Accel& accel, const Camer
     TraceResult result = begin_trace(rs, options);
     const int W = options.width, H = options.height;
     const Whitted whitted(rs, accel, options.max_depth);
-    const int tiles_x = (W + kTraceTile - 1) / kTraceTile, tiles_y = (H + kTraceTile - 1) / kTraceTile;
+    const Tiling tiling{W, H};
     std::atomic<uint64_t> rays_traced{0};
     Progress progress("render", uint64_t(W) * uint64_t(H) * options.spp, "samples", options.progress);
     const auto start = std::chrono::steady_clock::now();
-    parallel_for(size_t(tiles_x) * size_t(tiles_y), 1, options.threads, [&](size_t tile_begin, size_t tile_end) {
+    parallel_for(tiling.count(), 1, options.threads, [&](size_t tile_begin, size_t tile_end) {
         std::vector<uint32_t> pixel_of;
         uint64_t rays = 0;
         for (size_t tile = tile_begin; tile < tile_end; ++tile) {
-            tile_pixels(tile, tiles_x, W, H, pixel_of);
+            tiling.pixels(tile, pixel_of);
             for (uint32_t pix : pixel_of)
                 for (uint32_t s = 0; s < options.spp; ++s) {
                     const uint32_t sample = options.first_sample + s;

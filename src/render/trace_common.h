@@ -1,5 +1,5 @@
 #pragma once
-// Pieces both integrators share (private to src/render): the fixed tiling, ray offsets, and the
+// Pieces the integrators and the views share (private to src/render): the fixed tiling, ray offsets, and the
 // per-pixel sums that make an image independent of thread scheduling.
 #include <algorithm>
 #include <cmath>
@@ -16,17 +16,24 @@ inline constexpr int kTraceTile = 16;
 /// Paths per wave of the path tracer: a tile's samples go in waves of about this many paths.
 inline constexpr uint32_t kTraceWave = 4096;
 
-/// The image indices of tile `tile` (row-major over tiles_x tiles per row), in 4x4 blocks so that
-/// each 16 consecutive camera rays are neighbours (bvh8's packets).
-inline void tile_pixels(size_t tile, int tiles_x, int W, int H, std::vector<uint32_t>& out) {
-    constexpr int kBlock = 4;
-    out.clear();
-    const int x0 = int(tile % size_t(tiles_x)) * kTraceTile, y0 = int(tile / size_t(tiles_x)) * kTraceTile;
-    for (int by = y0; by < std::min(H, y0 + kTraceTile); by += kBlock)
-        for (int bx = x0; bx < std::min(W, x0 + kTraceTile); bx += kBlock)
-            for (int y = by; y < std::min(H, by + kBlock); ++y)
-                for (int x = bx; x < std::min(W, bx + kBlock); ++x) out.push_back(uint32_t(y * W + x));
-}
+/// The fixed tiling of a width x height image that every renderer's parallel loop runs over:
+/// kTraceTile x kTraceTile tiles, row-major.
+struct Tiling {
+    int width = 0, height = 0;
+    int tiles_x() const { return (width + kTraceTile - 1) / kTraceTile; }
+    size_t count() const { return size_t(tiles_x()) * size_t((height + kTraceTile - 1) / kTraceTile); }
+    /// The image indices of tile `tile`, in 4x4 blocks so that each 16 consecutive camera rays
+    /// are neighbours (bvh8's packets).
+    void pixels(size_t tile, std::vector<uint32_t>& out) const {
+        constexpr int kBlock = 4;
+        out.clear();
+        const int x0 = int(tile % size_t(tiles_x())) * kTraceTile, y0 = int(tile / size_t(tiles_x())) * kTraceTile;
+        for (int by = y0; by < std::min(height, y0 + kTraceTile); by += kBlock)
+            for (int bx = x0; bx < std::min(width, x0 + kTraceTile); bx += kBlock)
+                for (int y = by; y < std::min(height, by + kBlock); ++y)
+                    for (int x = bx; x < std::min(width, bx + kBlock); ++x) out.push_back(uint32_t(y * width + x));
+    }
+};
 
 /// Offset that keeps a ray leaving point p off the surface it leaves: relative to p's magnitude.
 inline float ray_epsilon(Vec3 p) { return 2e-4f * std::max(1.0f, max_component(abs(p))); }

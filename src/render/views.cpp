@@ -14,6 +14,7 @@
 #include "thicket/util/input_file.h"
 #include "thicket/util/parallel.h"
 #include "thicket/util/progress.h"
+#include "trace_common.h"
 
 namespace thicket {
 
@@ -125,26 +126,19 @@ Image render_view(const Scene& scene, const Accel& accel, const Camera& camera, 
 
     Progress progress("render", uint64_t(pixels), "rays", options.progress);
     const auto start = std::chrono::steady_clock::now();
-    // Tiles of kTile x kTile pixels are the unit of work; inside one, pixels go in 4x4 blocks, so
-    // that each 16 consecutive rays are neighbours: the batch API's packets (bvh8) trace them together.
-    constexpr int kTile = 16, kBlock = 4;
-    const int tiles_x = (W + kTile - 1) / kTile, tiles_y = (H + kTile - 1) / kTile;
-    parallel_for(size_t(tiles_x) * size_t(tiles_y), 1, options.threads, [&](size_t tile_begin, size_t tile_end) {
+    // Tiles are the unit of work, their pixels in 4x4 blocks (Tiling), so that each 16
+    // consecutive rays are neighbours: the batch API's packets (bvh8) trace them together.
+    const Tiling tiling{W, H};
+    parallel_for(tiling.count(), 1, options.threads, [&](size_t tile_begin, size_t tile_end) {
         uint64_t chunk_hits = 0, chunk_prims = 0, chunk_nodes = 0, chunk_rays = 0;
         std::vector<Ray> rays;
         std::vector<uint32_t> pixel;  // image index of each ray
         std::vector<Hit> found;
         for (size_t tile = tile_begin; tile < tile_end; ++tile) {
-            const int x0 = int(tile % size_t(tiles_x)) * kTile, y0 = int(tile / size_t(tiles_x)) * kTile;
+            tiling.pixels(tile, pixel);
             rays.clear();
-            pixel.clear();
-            for (int by = y0; by < std::min(H, y0 + kTile); by += kBlock)
-                for (int bx = x0; bx < std::min(W, x0 + kTile); bx += kBlock)
-                    for (int y = by; y < std::min(H, by + kBlock); ++y)
-                        for (int x = bx; x < std::min(W, bx + kBlock); ++x) {
-                            rays.push_back(camera.generate(float(x) + 0.5f, float(y) + 0.5f, W, H));
-                            pixel.push_back(uint32_t(size_t(y) * size_t(W) + size_t(x)));
-                        }
+            for (uint32_t p : pixel)
+                rays.push_back(camera.generate(float(p % uint32_t(W)) + 0.5f, float(p / uint32_t(W)) + 0.5f, W, H));
             found.resize(rays.size());
             if (options.view == View::Heatmap) {
                 for (size_t k = 0; k < rays.size(); ++k) {
