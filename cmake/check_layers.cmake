@@ -1,4 +1,5 @@
-# Fails when a file includes a Thicket header from a layer above its own, so the layers of
+# Fails when a file includes a Thicket header (public, "thicket/<folder>/...", or private to src/,
+# "<folder>/...") from a layer above its own, so the layers of
 # docs/architecture.md stay a ladder, not a loop.
 #   cmake -DROOT=<source tree> -P cmake/check_layers.cmake
 # A folder is include/thicket/<folder> or src/<folder>; tools/ and tests/ sit on top and are not
@@ -49,10 +50,23 @@ foreach(file ${files})
   else()
     set(allowed ${structure_layers} ${folder} ${uses_${folder}})
   endif()
-  file(STRINGS ${ROOT}/${file} lines REGEX "^[ \t]*#[ \t]*include[ \t]*\"thicket/[^/\"]+/")
+  # Public includes ("thicket/<folder>/...") and private ones ("<folder>/..." of src/, such as
+  # "accel/dispatch.h") obey the same table; a public header may not include a private one (it is
+  # not installed).
+  file(STRINGS ${ROOT}/${file} lines REGEX "^[ \t]*#[ \t]*include[ \t]*\"[a-z0-9_]+/")
   foreach(line ${lines})
-    string(REGEX MATCH "thicket/([^/\"]+)/" _ "${line}")
-    set(target ${CMAKE_MATCH_1})
+    if(line MATCHES "\"thicket/([^/\"]+)/")
+      set(target ${CMAKE_MATCH_1})
+    elseif(line MATCHES "\"([a-z0-9_]+)/")
+      set(target ${CMAKE_MATCH_1})
+      if(file MATCHES "^include/")
+        message(SEND_ERROR "${file}: a public header may not include the private header of ${target}/ (${line})")
+        math(EXPR violations "${violations} + 1")
+        continue()
+      endif()
+    else()
+      continue()
+    endif()
     if(target IN_LIST allowed OR "${file}:${target}" IN_LIST exception_files)
       continue()
     endif()
