@@ -7,6 +7,7 @@
 
 #include "thicket/bvh/node.h"
 #include "thicket/core/hit_query.h"
+#include "thicket/core/ordered_traversal.h"
 #include "thicket/core/ray_box.h"
 #include "thicket/prims/primitive_set.h"
 
@@ -77,59 +78,24 @@ struct Query {
         return false;
     }
 
-    /// Ordered traversal: both children's boxes are tested at the parent, the near one is
-    /// visited first, the far one is pushed with its entry distance and skipped when popped
-    /// if a hit closer than that distance has been found meanwhile.
+    bool is_leaf(uint32_t n) const { return bvh.nodes[n].is_leaf(); }
+    uint32_t first_child(uint32_t n) const { return bvh.nodes[n].leftFirst; }
+    bool leaf(uint32_t n) { return leaf(bvh.nodes[n]); }
+
+    /// Ordered traversal (core/ordered_traversal.h) with the near child picked by entry
+    /// distance, by the ray's sign along the split axis, or along the children's centroid axis.
     template <BvhTraversal Order>
     bool ordered() {
-        struct Entry {
-            uint32_t node;
-            float t;
-        };
-        Entry stack[kTraversalStackSize];
-        uint32_t sp = 0;
-        if (enter(0) == kInfinity) return false;
-        uint32_t n = 0;
-        while (true) {
-            const BvhNode& node = bvh.nodes[n];
-            if (node.is_leaf()) {
-                if (leaf(node)) return true;
+        return ordered_traversal<kTraversalStackSize>(*this, [&](uint32_t n, float t_first, float t_second) {
+            if constexpr (Order == BvhTraversal::OrderedDistance) {
+                return t_second < t_first;
+            } else if constexpr (Order == BvhTraversal::OrderedAxis) {
+                return box.neg[ChildOrder::split_axis(bvh.child_order[n])] != 0;
             } else {
-                uint32_t near = node.leftFirst, far_node = near + 1;
-                float t_near = enter(near), t_far = enter(far_node);
-                bool swap;
-                if constexpr (Order == BvhTraversal::OrderedDistance) {
-                    swap = t_far < t_near;
-                } else if constexpr (Order == BvhTraversal::OrderedAxis) {
-                    swap = box.neg[ChildOrder::split_axis(bvh.child_order[n])] != 0;
-                } else {
-                    const uint8_t order = bvh.child_order[n];
-                    swap = (box.neg[ChildOrder::centroid_axis(order)] != 0) != ChildOrder::left_is_higher(order);
-                }
-                if (swap) {
-                    std::swap(near, far_node);
-                    std::swap(t_near, t_far);
-                }
-                if (t_near != kInfinity) {
-                    if (t_far != kInfinity) stack[sp++] = {far_node, t_far};
-                    n = near;
-                    continue;
-                }
-                if (t_far != kInfinity) {
-                    n = far_node;
-                    continue;
-                }
+                const uint8_t order = bvh.child_order[n];
+                return (box.neg[ChildOrder::centroid_axis(order)] != 0) != ChildOrder::left_is_higher(order);
             }
-            // Pop the next node still worth visiting.
-            while (true) {
-                if (sp == 0) return false;
-                const Entry e = stack[--sp];
-                if (e.t <= far()) {
-                    n = e.node;
-                    break;
-                }
-            }
-        }
+        });
     }
 
     bool run(BvhTraversal traversal) {

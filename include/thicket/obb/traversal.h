@@ -1,9 +1,8 @@
 #pragma once
 /// OBB tree traversal: ordered by entry distance with early out, the ray moved into each box's
 /// frame and tested there with the robust slab test of the axis-aligned structures.
-#include <utility>
-
 #include "thicket/core/hit_query.h"
+#include "thicket/core/ordered_traversal.h"
 #include "thicket/core/ray_box.h"
 #include "thicket/obb/node.h"
 #include "thicket/prims/primitive_set.h"
@@ -51,44 +50,14 @@ struct Query {
         return false;
     }
 
-    /// Both children's boxes are tested at the parent, the nearer visited first, the other
-    /// pushed with its entry distance and skipped when popped beyond the closest hit so far.
+    bool is_leaf(uint32_t n) const { return obb.nodes[n].is_leaf(); }
+    uint32_t first_child(uint32_t n) const { return obb.nodes[n].leftFirst; }
+    bool leaf(uint32_t n) { return leaf(obb.nodes[n]); }
+
+    /// Ordered traversal (core/ordered_traversal.h), the nearer child by entry distance first.
     bool run() {
         if (obb.nodes.empty()) return false;
-        struct Entry {
-            uint32_t node;
-            float t;
-        };
-        Entry stack[kObbStackSize];
-        uint32_t sp = 0;
-        if (enter(0) == kInfinity) return false;
-        uint32_t n = 0;
-        while (true) {
-            const ObbNode& node = obb.nodes[n];
-            if (node.is_leaf()) {
-                if (leaf(node)) return true;
-            } else {
-                uint32_t near = node.leftFirst, far_node = near + 1;
-                float t_near = enter(near), t_far = enter(far_node);
-                if (t_far < t_near) {
-                    std::swap(near, far_node);
-                    std::swap(t_near, t_far);
-                }
-                if (t_near != kInfinity) {
-                    if (t_far != kInfinity) stack[sp++] = {far_node, t_far};
-                    n = near;
-                    continue;
-                }
-            }
-            while (true) {
-                if (sp == 0) return false;
-                const Entry e = stack[--sp];
-                if (e.t <= far()) {
-                    n = e.node;
-                    break;
-                }
-            }
-        }
+        return ordered_traversal<kObbStackSize>(*this, [](uint32_t, float t_first, float t_second) { return t_second < t_first; });
     }
 };
 
