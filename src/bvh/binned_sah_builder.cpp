@@ -70,29 +70,17 @@ public:
         std::array<uint32_t, kMaxBins> right_count;
         for (int axis = 0; axis < 3; ++axis) {
             if (!(scale[axis] > 0.0f)) continue;
-            // Right-to-left prefix: area and count of everything right of plane p (after bin p).
-            Aabb acc;
-            uint32_t count = 0;
-            for (uint32_t p = bins_ - 1; p > 0; --p) {
-                acc.grow(bins.bounds[axis][p]);
-                count += bins.counts[axis][p];
-                right_area[p - 1] = acc.half_area();
-                right_count[p - 1] = count;
-            }
-            acc = Aabb{};
-            count = 0;
-            for (uint32_t p = 0; p + 1 < bins_; ++p) {
-                acc.grow(bins.bounds[axis][p]);
-                count += bins.counts[axis][p];
-                if (count == 0 || right_count[p] == 0) continue;
-                const float cost = sah_split_cost(acc.half_area(), count, right_area[p], right_count[p],
-                                                  node.bounds.half_area());
-                if (cost < best_cost) {
-                    best_cost = cost;
-                    best_axis = axis;
-                    best_plane = p;
-                }
-            }
+            const auto& counts = bins.counts[axis];
+            sah_sweep(
+                bins_, [&](uint32_t b) -> const Aabb& { return bins.bounds[axis][b]; },
+                [&](uint32_t b) { return counts[b]; }, [&](uint32_t b) { return counts[b]; }, node.bounds.half_area(),
+                right_area.data(), right_count.data(), [&](uint32_t p, float cost, uint32_t, uint32_t) {
+                    if (cost < best_cost) {
+                        best_cost = cost;
+                        best_axis = axis;
+                        best_plane = p;
+                    }
+                });
         }
         if (best_axis < 0) return {};
         if (best_cost >= sah_leaf_cost(node.count) && node.count <= uint32_t(ctx_.options.max_leaf)) return {};

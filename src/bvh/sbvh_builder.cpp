@@ -37,23 +37,6 @@ constexpr uint32_t kSpatialBins = 16;
 constexpr uint32_t kSweepMax = 256;
 constexpr uint32_t kObjectBins = 64;
 
-/// The right-hand side of every plane of N bins, swept once from the right: plane p lies between
-/// bins p and p + 1, and right_area[p] / right_count[p] are the half area of bins p + 1.. and the
-/// references that `ends[b]` says lie there (a bin's references for object splits, the ones
-/// that end in it for spatial splits). Entry N - 1 is unused.
-template <size_t N>
-void sweep_right(const std::array<Aabb, N>& bins, const std::array<uint32_t, N>& ends, std::array<float, N>& right_area,
-                 std::array<uint32_t, N>& right_count) {
-    Aabb acc;
-    uint32_t count = 0;
-    for (size_t p = N - 1; p > 0; --p) {
-        acc.grow(bins[p]);
-        count += ends[p];
-        right_area[p - 1] = acc.half_area();
-        right_count[p - 1] = count;
-    }
-}
-
 /// One reference: a primitive, or the part of it inside a region, with that part's bounds.
 struct Ref {
     Aabb box;
@@ -247,19 +230,15 @@ private:
             }
             std::array<float, kObjectBins> right_area;
             std::array<uint32_t, kObjectBins> right_count;
-            sweep_right(bins, counts, right_area, right_count);
-            Aabb acc;
-            uint32_t count = 0;
-            for (uint32_t p = 0; p + 1 < kObjectBins; ++p) {
-                acc.grow(bins[p]);
-                count += counts[p];
-                if (count == 0 || right_count[p] == 0) continue;
-                const float cost = sah_split_cost(acc.half_area(), count, right_area[p], right_count[p], half_area);
-                if (cost < best.cost) {
-                    best = {cost, axis, p, true, lo, scale};
-                    best_bins = bins;
-                }
-            }
+            sah_sweep(
+                kObjectBins, [&](uint32_t b) -> const Aabb& { return bins[b]; }, [&](uint32_t b) { return counts[b]; },
+                [&](uint32_t b) { return counts[b]; }, half_area, right_area.data(), right_count.data(),
+                [&](uint32_t p, float cost, uint32_t, uint32_t) {
+                    if (cost < best.cost) {
+                        best = {cost, axis, p, true, lo, scale};
+                        best_bins = bins;
+                    }
+                });
         }
         if (best.axis < 0) return best;
         best_left = best_right = Aabb{};
@@ -277,23 +256,20 @@ private:
         }
         Candidate best;
         right_area_.resize(n);
+        right_count_.resize(n);
         for (int axis = 0; axis < 3; ++axis) {
             sort_axis(refs, axis);
-            Aabb acc;
-            for (uint32_t k = n; k-- > 1;) {  // right_area_[k]: area of order_[k..n)
-                acc.grow(refs[order_[k]].box);
-                right_area_[k] = acc.half_area();
-            }
-            acc = Aabb{};
             bool improved = false;
-            for (uint32_t k = 1; k < n; ++k) {
-                acc.grow(refs[order_[k - 1]].box);
-                const float cost = sah_split_cost(acc.half_area(), k, right_area_[k], n - k, half_area);
-                if (cost < best.cost) {
-                    best = {cost, axis, k};
-                    improved = true;
-                }
-            }
+            // Plane p puts order_[0..p] on the left.
+            sah_sweep(
+                n, [&](uint32_t k) -> const Aabb& { return refs[order_[k]].box; }, [](uint32_t) { return 1u; },
+                [](uint32_t) { return 1u; }, half_area, right_area_.data(), right_count_.data(),
+                [&](uint32_t p, float cost, uint32_t, uint32_t) {
+                    if (cost < best.cost) {
+                        best = {cost, axis, p + 1};
+                        improved = true;
+                    }
+                });
             if (improved) best_order_.swap(order_);  // kept for apply_object: no sort again
         }
         if (best.axis < 0) return best;
@@ -369,17 +345,13 @@ private:
             }
             std::array<float, kSpatialBins> right_area;
             std::array<uint32_t, kSpatialBins> right_count;
-            sweep_right(bins, exits, right_area, right_count);
-            Aabb acc;
-            uint32_t count = 0;
-            for (uint32_t p = 0; p + 1 < kSpatialBins; ++p) {
-                acc.grow(bins[p]);
-                count += entries[p];
-                if (count == 0 || right_count[p] == 0) continue;
-                if (uint64_t(count) + right_count[p] > uint64_t(n) + extra) continue;  // over budget
-                const float cost = sah_split_cost(acc.half_area(), count, right_area[p], right_count[p], half_area);
-                if (cost < best.cost) best = {cost, axis, p};
-            }
+            sah_sweep(
+                kSpatialBins, [&](uint32_t b) -> const Aabb& { return bins[b]; }, [&](uint32_t b) { return entries[b]; },
+                [&](uint32_t b) { return exits[b]; }, half_area, right_area.data(), right_count.data(),
+                [&](uint32_t p, float cost, uint32_t left, uint32_t right) {
+                    if (uint64_t(left) + right > uint64_t(n) + extra) return;  // over budget
+                    if (cost < best.cost) best = {cost, axis, p};
+                });
         }
         return best;
     }
@@ -420,6 +392,7 @@ private:
     const BvhBuildOptions& options_;
     float root_half_area_ = 0.0f;
     std::vector<float> keys_, right_area_;
+    std::vector<uint32_t> right_count_;
     std::vector<uint32_t> order_, best_order_;  ///< the axis being swept; the best axis's order
 };
 

@@ -64,6 +64,36 @@ inline float sah_split_cost(float left_half_area, uint32_t left_count, float rig
 
 inline float sah_leaf_cost(uint32_t count) { return kSahIntersectionCost * float(count); }
 
+/// The SAH sweep every builder runs along one axis: `slots` consecutive slots (bins, or
+/// primitives in axis order), plane p lying between slots p and p + 1. box_of(s) is slot s's box,
+/// enters(s) the references counted on the left of every plane after s, exits(s) those counted
+/// on the right of every plane before s (the same count for object splits; a straddling
+/// reference of a spatial split enters in one bin and exits in another). right_area and
+/// right_count are scratch for `slots` entries. Calls candidate(p, cost, left_count, right_count)
+/// for every plane with references on both sides, from left to right.
+template <class BoxOf, class Enters, class Exits, class Candidate>
+inline void sah_sweep(uint32_t slots, BoxOf&& box_of, Enters&& enters, Exits&& exits, float parent_half_area,
+                      float* right_area, uint32_t* right_count, Candidate&& candidate) {
+    if (slots < 2) return;
+    Aabb acc;
+    uint32_t count = 0;
+    for (uint32_t p = slots - 1; p > 0; --p) {  // right of plane p - 1: slots p..
+        acc.grow(box_of(p));
+        count += exits(p);
+        right_area[p - 1] = acc.half_area();
+        right_count[p - 1] = count;
+    }
+    acc = Aabb{};
+    count = 0;
+    for (uint32_t p = 0; p + 1 < slots; ++p) {
+        acc.grow(box_of(p));
+        count += enters(p);
+        if (count == 0 || right_count[p] == 0) continue;
+        candidate(p, sah_split_cost(acc.half_area(), count, right_area[p], right_count[p], parent_half_area), count,
+                  right_count[p]);
+    }
+}
+
 /// A top node's loops run over at most kMaxChunks chunks of at least kMinChunk primitives: a
 /// function of the node's size alone, so the chunks, and hence every result merged in chunk
 /// order, are the same whatever the number of threads.

@@ -29,6 +29,7 @@ public:
         });
         goes_left_.resize(n);
         right_area_.resize(n);
+        right_count_.resize(n);
         scratch_.resize(n);
     }
 
@@ -39,23 +40,17 @@ public:
         const auto& bounds = ctx_.prims.bounds;
         for (int axis = 0; axis < 3; ++axis) {
             const uint32_t* order = sorted_[axis].data() + node.first;
-            Aabb acc;
-            float* right_area = right_area_.data() + node.first;  // this range's own slots
-            for (uint32_t k = node.count; k-- > 1;) {  // right_area[k]: area of order[k..count)
-                acc.grow(bounds[order[k]]);
-                right_area[k] = acc.half_area();
-            }
-            acc = Aabb{};
-            for (uint32_t k = 1; k < node.count; ++k) {  // left = order[0..k)
-                acc.grow(bounds[order[k - 1]]);
-                const float cost =
-                    sah_split_cost(acc.half_area(), k, right_area[k], node.count - k, node.bounds.half_area());
-                if (cost < best_cost) {
-                    best_cost = cost;
-                    best_axis = axis;
-                    best_left = k;
-                }
-            }
+            // Plane p puts order[0..p] on the left; this range's own scratch slots (tasks run at once).
+            sah_sweep(
+                node.count, [&](uint32_t k) -> const Aabb& { return bounds[order[k]]; }, [](uint32_t) { return 1u; },
+                [](uint32_t) { return 1u; }, node.bounds.half_area(), right_area_.data() + node.first,
+                right_count_.data() + node.first, [&](uint32_t p, float cost, uint32_t, uint32_t) {
+                    if (cost < best_cost) {
+                        best_cost = cost;
+                        best_axis = axis;
+                        best_left = p + 1;
+                    }
+                });
         }
         if (best_axis < 0) return {};
         if (best_cost >= sah_leaf_cost(node.count) && node.count <= uint32_t(ctx_.options.max_leaf)) return {};
@@ -99,6 +94,7 @@ private:
     std::vector<uint32_t> sorted_[3];
     std::vector<uint8_t> goes_left_;
     std::vector<float> right_area_;
+    std::vector<uint32_t> right_count_;
     std::vector<uint32_t> scratch_;
 };
 
