@@ -76,4 +76,19 @@ private:
     float crossing(const DdaRay& r, int a) const { return base[a] + float(cell[a] + r.up[a]) * delta[a]; }
 };
 
+/// The walk every grid level does: the cells of `frame` from the one holding the ray's point at
+/// t_enter, in order. visit(const Dda&) handles the current cell and returns true to end the walk
+/// (an any-hit query found something); the walk also ends when far() (the nearest hit so far, or
+/// the ray's tmax) lies within the current cell, or the ray leaves the frame. Returns whether
+/// visit ended it.
+template <class Far, class Visit>
+[[gnu::always_inline]] inline bool walk_cells(const GridFrame& frame, const DdaRay& r, float t_enter, Far&& far,
+                                              Visit&& visit) {
+    Dda dda(frame, r, t_enter);
+    while (true) {
+        if (visit(static_cast<const Dda&>(dda))) return true;
+        if (!dda.step(frame, r, far())) return false;
+    }
+}
+
 }  // namespace thicket

@@ -21,33 +21,31 @@ bool grid2_walk(const Grid2Data& g, const Prims& prims, const Ray& ray, Hit& hit
     const float t0 = ray_box_entry(RayBoxQuery(ray), g.frame.min, g.frame.max, ray.tmin, ray.tmax);
     if (t0 == kInfinity) return false;
     const DdaRay r(ray);
-    Dda top(g.frame, r, t0);
     MB mailbox;
     const uint32_t* start = g.leaves.start.data();
     const uint32_t* refs = g.leaves.refs.data();
+    const auto far = [&] { return AnyHit ? ray.tmax : hit.t; };
     float t_enter = t0;
-    while (true) {
+    return walk_cells(g.frame, r, t0, far, [&](const Dda& top) {
         counters.node();
         const TopCell& tc = g.top[top.index];
         if (!tc.empty()) {
             const GridFrame sub = g.sub_frame(top.cell, tc);
-            Dda leaf(sub, r, t_enter);
-            while (true) {
+            const bool ended = walk_cells(sub, r, t_enter, far, [&](const Dda& leaf) {
                 counters.node();
                 const uint32_t l = tc.first_leaf + leaf.index;
-                if (grid_detail::visit_cell<AnyHit>(refs + start[l], refs + start[l + 1], prims, ray, hit, mailbox,
-                                                    counters))
-                    return true;
-                if (!leaf.step(sub, r, AnyHit ? ray.tmax : hit.t)) break;
-            }
+                return grid_detail::visit_cell<AnyHit>(refs + start[l], refs + start[l + 1], prims, ray, hit, mailbox,
+                                                       counters);
+            });
+            if (ended) return true;
         }
         // The leaf walk ended by leaving the sub-grid, or because the nearest hit lies within its
         // current cell, hence within this top cell: then the top step stops too (were rounding to
         // put the hit a hair beyond this cell's exit, one more cell would be walked, harmlessly).
         // The next top cell's walk starts where this one ends.
         t_enter = std::max(t0, std::min({top.next[0], top.next[1], top.next[2]}));
-        if (!top.step(g.frame, r, AnyHit ? ray.tmax : hit.t)) return false;
-    }
+        return false;
+    });
 }
 
 }  // namespace thicket

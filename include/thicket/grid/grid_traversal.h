@@ -18,18 +18,15 @@ bool grid_walk(const GridData& g, const Prims& prims, const Ray& ray, Hit& hit, 
     const float t0 = ray_box_entry(RayBoxQuery(ray), g.frame.min, g.frame.max, ray.tmin, ray.tmax);
     if (t0 == kInfinity) return false;
     const DdaRay r(ray);
-    Dda dda(g.frame, r, t0);
     MB mailbox;
     const uint32_t* start = g.lists.start.data();
     const uint32_t* refs = g.lists.refs.data();
-    while (true) {
+    // Stop when the nearest hit (or the end of the ray) lies within this cell: not past its exit.
+    return walk_cells(g.frame, r, t0, [&] { return AnyHit ? ray.tmax : hit.t; }, [&](const Dda& dda) {
         counters.node();
-        if (grid_detail::visit_cell<AnyHit>(refs + start[dda.index], refs + start[dda.index + 1], prims, ray, hit,
-                                            mailbox, counters))
-            return true;
-        // Stop when the nearest hit (or the end of the ray) lies within this cell: not past its exit.
-        if (!dda.step(g.frame, r, AnyHit ? ray.tmax : hit.t)) return false;
-    }
+        return grid_detail::visit_cell<AnyHit>(refs + start[dda.index], refs + start[dda.index + 1], prims, ray, hit,
+                                               mailbox, counters);
+    });
 }
 
 }  // namespace thicket
