@@ -1,15 +1,18 @@
 // bvh8 payload: lengths, then the arrays as they are in memory (nodes and blocks are plain,
 // relocatable data), then the build's figures. Reading bounds every length by the scene's
-// primitive count before allocating; the structure and the boxes are then proved.
+// primitive count before allocating; the structure, the boxes and the leaves are then proved.
 #include "thicket/bvh8/bvh8_io.h"
 
 #include <algorithm>
+#include <bit>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "bvh/coverage.h"
 #include "thicket/core/error.h"
+#include "thicket/core/ray.h"
+#include "thicket/prims/triangles.h"
 #include "thicket/util/binary_io.h"
 
 namespace thicket::bvh8 {
@@ -29,8 +32,7 @@ void check_count(uint64_t count, uint64_t bound, const char* what, size_t primit
 
 }  // namespace
 
-void write_tree(std::ostream& out, const Tree& tree, const AlignedVector<Tri4, 64>& blocks,
-                const std::vector<uint32_t>& ids) {
+void write_tree(std::ostream& out, const Tree& tree, const Blocks& blocks, const std::vector<uint32_t>& ids) {
     write_value(out, uint64_t(tree.nodes.size()));
     write_value(out, uint64_t(blocks.size()));
     write_value(out, uint64_t(ids.size()));
@@ -152,6 +154,90 @@ void check_boxes(Tree& tree, const LeafPrimitives& leaf_primitives, std::span<co
         }
         i = end;
     }
+}
+
+/// A loaded block: each lane either triangle `id` of `tris`, not degenerate, bit for bit, or
+/// kNoPrim with all-zero vertices (never hit). Marks the triangles seen; counts the lanes filled.
+template <class Tris>
+static void check_block(const Blocks& blocks, uint32_t index, const Tris& tris, std::vector<bool>& seen,
+                        size_t& lanes) {
+    const Tri4& b = blocks[index];
+    for (int lane = 0; lane < 4; ++lane) {
+        const std::string where = "bvh8: block " + std::to_string(index) + " lane " + std::to_string(lane);
+        if (b.id[lane] == kNoPrim) {
+            for (int vertex = 0; vertex < 3; ++vertex)
+                for (int a = 0; a < 3; ++a)
+                    if (b.v[vertex][a][lane] != 0.0f) throw Error(where + ": an empty lane with a vertex");
+            continue;
+        }
+        if (b.id[lane] >= tris.size())
+            throw Error(where + " names triangle " + std::to_string(b.id[lane]) + " of " + std::to_string(tris.size()));
+        const auto v = tris.triangle(b.id[lane]);
+        if (Tris::degenerate({v[0], v[1], v[2]}))
+            throw Error(where + " holds degenerate triangle " + std::to_string(b.id[lane]));
+        for (int vertex = 0; vertex < 3; ++vertex)
+            for (int a = 0; a < 3; ++a)
+                if (std::bit_cast<uint32_t>(b.v[vertex][a][lane]) != std::bit_cast<uint32_t>(v[size_t(vertex)][a]))
+                    throw Error(where + ": triangle " + std::to_string(b.id[lane]) + " differs from the scene's");
+        seen[b.id[lane]] = true;
+        ++lanes;
+    }
+}
+
+template <class Tris>
+LoadedBlocks prove_blocks(Tree& tree, const Blocks& blocks, const std::vector<uint32_t>& ids, const Tris& tris,
+                          std::span<const Aabb> bounds, const ClipFunction& clip) {
+    if (!ids.empty()) throw Error("bvh8: a triangle scene's payload lists primitive ids, not blocks");
+    LoadedBlocks found;
+    std::vector<bool> seen(tris.size(), false);
+    for_each_leaf(tree, [&](uint32_t first, uint32_t size) {
+        for (uint32_t b = first; b < first + size; ++b) check_block(blocks, b, tris, seen, found.lanes);
+    });
+    check_boxes(
+        tree,
+        [&](uint32_t first, uint32_t size, const std::function<void(uint32_t)>& id) {
+            for (uint32_t b = first; b < first + size; ++b)
+                for (uint32_t lane_id : blocks[b].id)
+                    if (lane_id != kNoPrim) id(lane_id);
+        },
+        bounds, clip);
+    for (uint32_t i = 0; i < tris.size(); ++i) {
+        const auto v = tris.triangle(i);
+        if (Tris::degenerate({v[0], v[1], v[2]}))
+            found.slivers.push_back(i);
+        else if (!seen[i])
+            throw Error("bvh8: triangle " + std::to_string(i) + " is in no leaf");
+    }
+    return found;
+}
+
+template LoadedBlocks prove_blocks(Tree&, const Blocks&, const std::vector<uint32_t>&,
+                                   const Triangles<TriangleTest::Moller>&, std::span<const Aabb>, const ClipFunction&);
+template LoadedBlocks prove_blocks(Tree&, const Blocks&, const std::vector<uint32_t>&,
+                                   const Triangles<TriangleTest::Watertight>&, std::span<const Aabb>,
+                                   const ClipFunction&);
+
+void prove_ids(Tree& tree, const Blocks& blocks, const std::vector<uint32_t>& ids, std::span<const Aabb> bounds,
+               const ClipFunction& clip) {
+    if (!blocks.empty()) throw Error("bvh8: payload holds triangle blocks for a scene that is not only triangles");
+    const size_t primitives = bounds.size();
+    std::vector<bool> seen(primitives, false);
+    for_each_leaf(tree, [&](uint32_t first, uint32_t size) {
+        for (uint32_t k = first; k < first + size; ++k) {
+            if (ids[k] >= primitives)
+                throw Error("bvh8: leaf entry " + std::to_string(k) + " names primitive " + std::to_string(ids[k]) +
+                            " of " + std::to_string(primitives));
+            seen[ids[k]] = true;
+        }
+    });
+    check_boxes(
+        tree,
+        [&](uint32_t first, uint32_t size, const std::function<void(uint32_t)>& id) {
+            for (uint32_t k = first; k < first + size; ++k) id(ids[k]);
+        },
+        bounds, clip);
+    for (uint32_t i = 0; i < primitives; ++i)
+        if (!seen[i]) throw Error("bvh8: primitive " + std::to_string(i) + " is in no leaf");
 }
 
 }  // namespace thicket::bvh8

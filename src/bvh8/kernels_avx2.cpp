@@ -5,9 +5,7 @@
 #include "thicket/bvh8/node.h"
 #include "thicket/core/ray_box.h"
 
-#define THICKET_BVH8_LEVEL 2
-#define THICKET_BVH8_NAME "avx2"
-
 namespace thicket::bvh8_avx2 {
+#include "lanes_avx2.h"
 #include "kernel_body.inc"
 }  // namespace thicket::bvh8_avx2

@@ -5,9 +5,7 @@
 #include "thicket/bvh8/node.h"
 #include "thicket/core/ray_box.h"
 
-#define THICKET_BVH8_LEVEL 3
-#define THICKET_BVH8_NAME "avx512"
-
 namespace thicket::bvh8_avx512 {
+#include "lanes_avx512.h"
 #include "kernel_body.inc"
 }  // namespace thicket::bvh8_avx512

@@ -5,9 +5,7 @@
 #include "thicket/bvh8/node.h"
 #include "thicket/core/ray_box.h"
 
-#define THICKET_BVH8_LEVEL 1
-#define THICKET_BVH8_NAME "sse"
-
 namespace thicket::bvh8_sse {
+#include "lanes_sse.h"
 #include "kernel_body.inc"
 }  // namespace thicket::bvh8_sse

@@ -1,11 +1,17 @@
 #pragma once
-/// Building the 8-wide tree: a binary BVH from any `bvh` builder, collapsed into 8-wide nodes.
+/// Building the 8-wide tree: a binary BVH from any `bvh` builder, collapsed into 8-wide nodes
+/// whose leaves some leaf storage (blocks.h, or primitive ids) places. A refit (new vertices, the
+/// same topology) would sit next to this: its own file, a backward pass over Tree::nodes (children
+/// come after their parents) recomputing each lane's box (docs/bvh8.md, "Files").
 #include <cstdint>
 #include <functional>
+#include <vector>
 
+#include "thicket/bvh/build.h"
 #include "thicket/bvh/node.h"
 #include "thicket/bvh8/node.h"
 #include "thicket/core/aligned.h"
+#include "thicket/prims/primitive_set.h"
 
 namespace thicket::bvh8 {
 
@@ -27,6 +33,20 @@ struct Tree {
     double sah_cost = 0.0;          ///< Thicket's metric (kSahTraversalCost, kSahIntersectionCost)
     double embree_sah_cost = 0.0;   ///< Embree's: (sum node areas + sum leaf area x 4-blocks) / root area
 };
+
+/// The binary BVH over every primitive of `prims` that the collapse starts from: their bounds and
+/// centroids gathered on options.threads threads, spatial splits (sbvh) clipping them exactly
+/// where the set can (clipped_bounds).
+template <PrimitiveSet P>
+BvhData build_binary(const P& prims, const BvhBuildOptions& options) {
+    std::vector<Aabb> bounds;
+    std::vector<Vec3> centroids;
+    primitive_boxes(
+        uint32_t(prims.size()), options.threads, bounds, centroids, [&](uint32_t i) { return prims.bounds(i); },
+        [&](uint32_t i) { return prims.centroid(i); });
+    const ClipFunction clip = [&prims](uint32_t i, const Aabb& box) { return clipped_bounds(prims, i, box); };
+    return build_bvh({bounds, centroids, clip}, options);
+}
 
 /// Collapses `binary` greedily: a node's children start as its two binary children, and the
 /// interior child of largest surface area is replaced by its own two until there are 8 or

@@ -3,24 +3,29 @@
 /// blocks, traversal kernels per ISA chosen at run time (docs/bvh8.md). Any PrimitiveSet: a
 /// triangle set is copied into the blocks (the structure owns its triangles, no index
 /// indirection); any other set keeps its primitives and leaves list ids tested one by one.
+/// This class composes the pieces, one concept per file (docs/bvh8.md, "Files"): node.h (layout
+/// and kernel interface), build.h (binary build and collapse), blocks.h (4-triangle blocks),
+/// slivers.h (the degenerate-triangle tree), bvh8_io.h (saving, loading and its proofs),
+/// stats.h, and the queries' baseline sides: isa.h (the kernels' choice), packets.h,
+/// closest_point.h.
 #include <algorithm>
-#include <bit>
-#include <cmath>
-#include <functional>
 #include <ostream>
 #include <span>
-#include <string>
 #include <type_traits>
 #include <utility>
 #include <vector>
 
 #include "thicket/accel/accel.h"
 #include "thicket/bvh/build.h"
+#include "thicket/bvh8/blocks.h"
 #include "thicket/bvh8/build.h"
 #include "thicket/bvh8/bvh8_io.h"
 #include "thicket/bvh8/closest_point.h"
 #include "thicket/bvh8/isa.h"
-#include "thicket/core/error.h"
+#include "thicket/bvh8/packets.h"
+#include "thicket/bvh8/slivers.h"
+#include "thicket/bvh8/stats.h"
+#include "thicket/core/huge_pages.h"
 #include "thicket/prims/primitive_set.h"
 #include "thicket/prims/triangles.h"
 
@@ -34,10 +39,8 @@ struct Bvh8Options {
 };
 
 namespace bvh8 {
-template <class P>
-inline constexpr bool kIsTriangles = false;
-template <TriangleTest T>
-inline constexpr bool kIsTriangles<Triangles<T>> = true;
+/// How the kernels test a set's leaves: 4-triangle blocks for the two triangle sets (the
+/// structure's own copy of them), a callback through the set's ids for any other.
 template <class P>
 inline constexpr int kLeafKindOf = kLeafCallback;
 template <>
@@ -50,6 +53,8 @@ template <PrimitiveSet Prims>
 class Bvh8 final : public AccelBase<Bvh8<Prims>> {
 public:
     static constexpr int kLeafKind = bvh8::kLeafKindOf<Prims>;
+    /// The leaves are 4-triangle blocks (and a sliver tree); otherwise primitive ids into prims_.
+    static constexpr bool kBlocks = kLeafKind != bvh8::kLeafCallback;
 
     /// Builds the binary BVH with options.binary, collapses it, and picks options.isa's kernels.
     Bvh8(Prims prims, const Bvh8Options& options)
@@ -57,33 +62,25 @@ public:
           primitives_(prims_.size()),
           packets_(options.packets),
           kernels_(&bvh8::kernels_for(options.isa)) {
-        std::vector<Aabb> bounds;
-        std::vector<Vec3> centroids;
-        primitive_boxes(
-            uint32_t(prims_.size()), options.binary.threads, bounds, centroids,
-            [&](uint32_t i) { return prims_.bounds(i); }, [&](uint32_t i) { return prims_.centroid(i); });
-        const BvhData binary = build_bvh(
-            {bounds, centroids, [this](uint32_t i, const Aabb& box) { return clipped_bounds(prims_, i, box); }},
-            options.binary);
+        const BvhData binary = bvh8::build_binary(prims_, options.binary);
         references_ = binary.prim_indices.size();
-        if constexpr (bvh8::kIsTriangles<Prims>) {
-            for (uint32_t i = 0; i < prims_.size(); ++i) {
-                const auto v = prims_.triangle(i);
-                dropped_ += Prims::degenerate({v[0], v[1], v[2]}) ? 1 : 0;
-            }
+        if constexpr (kBlocks) {
+            dropped_ = bvh8::count_degenerate(prims_);
             // Every block holds at least one triangle: never reallocated during the collapse. One
             // per reference, not per triangle: spatial splits (sbvh) list a triangle in several leaves.
             reserve_huge(blocks_, binary.prim_indices.size());
             std::vector<uint32_t> slivers;
+            bvh8::BlockPacking packing{references_ > primitives_, &slivers};
             tree_ = bvh8::collapse(
                 binary,
                 [&](uint32_t first, uint32_t count) {
-                    return emit_blocks(blocks_, binary.prim_indices.data() + first, count, &slivers);
+                    return bvh8::pack_blocks(blocks_, prims_, binary.prim_indices.data() + first, count, packing);
                 },
                 options.merge_below);
             bvh8::validate_tree(tree_, blocks_.size());
             blocks_.shrink_to_fit();  // the reservation above is one block per triangle: 4x the need
-            build_sliver_tree(std::move(slivers), options);
+            kept_ = packing.lanes;
+            slivers_ = bvh8::build_sliver_tree(prims_, std::move(slivers), options.binary, options.merge_below);
             prims_ = Prims();  // the blocks are the structure's only copy of the triangles
         } else {
             ids_ = binary.prim_indices;
@@ -92,13 +89,12 @@ public:
                 options.merge_below);
             bvh8::validate_tree(tree_, ids_.size());
         }
-        ctx_ = {tree_.nodes.data(), blocks_.data(), ids_.data(), &prims_, &closest_leaf, &any_leaf};
-        sliver_ctx_ = {sliver_tree_.nodes.data(), sliver_blocks_.data(), nullptr, nullptr, nullptr, nullptr};
+        set_contexts();
     }
     /// Adopts a saved tree (bvh8::read_tree) after proving that it answers for `prims` as the
     /// built one would: its leaves hold the scene's own primitives (triangles bit for bit, none
     /// degenerate), every primitive that the build keeps is reachable, and every box encloses
-    /// what lies below it. Throws Error naming what is wrong.
+    /// what lies below it (bvh8::prove_blocks, bvh8::prove_ids). Throws Error naming what is wrong.
     Bvh8(Prims prims, const Bvh8Options& options, bvh8::SavedTree saved)
         : prims_(std::move(prims)),
           primitives_(prims_.size()),
@@ -110,54 +106,19 @@ public:
         std::vector<Aabb> prim_bounds(primitives_);
         for (uint32_t i = 0; i < primitives_; ++i) tree_.bounds.grow(prim_bounds[i] = prims_.bounds(i));
         const ClipFunction clip = [this](uint32_t i, const Aabb& box) { return clipped_bounds(prims_, i, box); };
-        std::vector<bool> seen(primitives_, false);
-        if constexpr (bvh8::kIsTriangles<Prims>) {
-            if (!ids_.empty()) throw Error("bvh8: a triangle scene's payload lists primitive ids, not blocks");
-            bvh8::for_each_leaf(tree_, [&](uint32_t first, uint32_t size) {
-                for (uint32_t b = first; b < first + size; ++b) check_block(b, seen);
-            });
-            bvh8::check_boxes(
-                tree_,
-                [&](uint32_t first, uint32_t size, const std::function<void(uint32_t)>& id) {
-                    for (uint32_t b = first; b < first + size; ++b)
-                        for (uint32_t lane_id : blocks_[b].id)
-                            if (lane_id != kNoPrim) id(lane_id);
-                },
-                prim_bounds, clip);
-            std::vector<uint32_t> slivers;  // not saved: rebuilt as the build makes them
-            for (uint32_t i = 0; i < primitives_; ++i) {
-                const auto v = prims_.triangle(i);
-                if (Prims::degenerate({v[0], v[1], v[2]}))
-                    slivers.push_back(i);
-                else if (!seen[i])
-                    throw Error("bvh8: triangle " + std::to_string(i) + " is in no leaf");
-            }
-            dropped_ = slivers.size();
+        if constexpr (kBlocks) {
+            bvh8::LoadedBlocks found = bvh8::prove_blocks(tree_, blocks_, ids_, prims_, prim_bounds, clip);
+            kept_ = found.lanes;
+            dropped_ = found.slivers.size();
             references_ = kept_ + dropped_;  // lanes: a triangle cut by spatial splits counts per leaf
-            build_sliver_tree(std::move(slivers), options);
+            // Not saved: rebuilt as the build makes it.
+            slivers_ = bvh8::build_sliver_tree(prims_, std::move(found.slivers), options.binary, options.merge_below);
             prims_ = Prims();  // as after a build: the blocks are the only copy
         } else {
-            if (!blocks_.empty()) throw Error("bvh8: payload holds triangle blocks for a scene that is not only triangles");
-            bvh8::for_each_leaf(tree_, [&](uint32_t first, uint32_t size) {
-                for (uint32_t k = first; k < first + size; ++k) {
-                    if (ids_[k] >= primitives_)
-                        throw Error("bvh8: leaf entry " + std::to_string(k) + " names primitive " +
-                                    std::to_string(ids_[k]) + " of " + std::to_string(primitives_));
-                    seen[ids_[k]] = true;
-                }
-            });
-            bvh8::check_boxes(
-                tree_,
-                [&](uint32_t first, uint32_t size, const std::function<void(uint32_t)>& id) {
-                    for (uint32_t k = first; k < first + size; ++k) id(ids_[k]);
-                },
-                prim_bounds, clip);
-            for (uint32_t i = 0; i < primitives_; ++i)
-                if (!seen[i]) throw Error("bvh8: primitive " + std::to_string(i) + " is in no leaf");
+            bvh8::prove_ids(tree_, blocks_, ids_, prim_bounds, clip);
             references_ = ids_.size();
         }
-        ctx_ = {tree_.nodes.data(), blocks_.data(), ids_.data(), &prims_, &closest_leaf, &any_leaf};
-        sliver_ctx_ = {sliver_tree_.nodes.data(), sliver_blocks_.data(), nullptr, nullptr, nullptr, nullptr};
+        set_contexts();
     }
     Bvh8(const Bvh8&) = delete;  // ctx_ points into this object
     Bvh8& operator=(const Bvh8&) = delete;
@@ -184,15 +145,15 @@ public:
     /// The closest point of the triangles to p through the per-ISA point traversal, degenerate
     /// triangles included (their points are on the surface; rays never hit them); shapes: Error.
     NearestPoint closest_point(const Vec3& p) const override {
-        if constexpr (bvh8::kIsTriangles<Prims>)
+        if constexpr (kBlocks)
             return bvh8::closest_point(*kernels_,
                                        {tree_.nodes.empty() ? nullptr : &ctx_,
-                                        sliver_tree_.nodes.empty() ? nullptr : &sliver_ctx_},
+                                        slivers_.tree.nodes.empty() ? nullptr : &sliver_ctx_},
                                        p);
         else
             return Accel::closest_point(p);  // shapes: refused with the reason
     }
-    bool has_closest_point() const override { return bvh8::kIsTriangles<Prims>; }
+    bool has_closest_point() const override { return kBlocks; }
 
     using Accel::all_hits;  // the batch forms stay visible next to the per-ray overrides
     using Accel::count_hits;
@@ -201,13 +162,13 @@ public:
     /// sorted and merged by Accel::all_hits' rule (merge_crossings), which gives the crossings
     /// stepping from one to the next would, without a traversal per crossing. Shapes: stepping.
     void all_hits(const Ray& ray, std::vector<Hit>& out) const override {
-        if constexpr (bvh8::kIsTriangles<Prims>)
+        if constexpr (kBlocks)
             every_hit(ray, [&](std::span<Hit> hits) { merge_crossings(hits, &out); });
         else
             Accel::all_hits(ray, out);
     }
     uint32_t count_hits(const Ray& ray) const override {
-        if constexpr (bvh8::kIsTriangles<Prims>) {
+        if constexpr (kBlocks) {
             uint32_t count = 0;
             every_hit(ray, [&](std::span<Hit> hits) { count = uint32_t(merge_crossings(hits, nullptr)); });
             return count;
@@ -218,26 +179,18 @@ public:
 
     AccelStats stats() const override {
         AccelStats s = this->base_stats();
-        s.primitives = primitives_;
-        s.nodes = tree_.nodes.size() + tree_.leaves;  // AccelStats counts leaves as nodes
-        s.leaves = tree_.leaves;
-        s.max_depth = tree_.max_depth;
-        s.bytes = (tree_.nodes.size() + sliver_tree_.nodes.size()) * sizeof(bvh8::Node) + ids_.size() * sizeof(uint32_t);
-        s.primitive_bytes = bvh8::kIsTriangles<Prims> ? (blocks_.size() + sliver_blocks_.size()) * sizeof(bvh8::Tri4)
-                                                      : prims_.bytes();
-        s.sah_cost = tree_.sah_cost;
-        s.extra.emplace_back("isa", kernels_->isa);
-        s.extra.emplace_back("8-wide nodes", std::to_string(tree_.nodes.size()));
-        s.extra.emplace_back("Embree SAH", std::to_string(tree_.embree_sah_cost));
-        if constexpr (bvh8::kIsTriangles<Prims>) {
-            const size_t lanes = blocks_.size() * 4;
-            s.extra.emplace_back("4-triangle blocks", std::to_string(blocks_.size()) + " (" +
-                                                          std::to_string(lanes ? 100 * kept_ / lanes : 0) +
-                                                          "% of lanes used)");
-            s.extra.emplace_back("degenerate dropped", std::to_string(dropped_));
-        }
-        // More references than primitives: spatial splits (builder=sbvh) list some in several leaves.
-        s.extra.emplace_back("references", reference_figure(references_, primitives_));
+        bvh8::fill_stats(s, {.tree = &tree_,
+                             .isa = kernels_->isa,
+                             .primitives = primitives_,
+                             .references = references_,
+                             .other_nodes = slivers_.tree.nodes.size(),
+                             .ids = ids_.size(),
+                             .primitive_bytes = kBlocks ? (blocks_.size() + slivers_.blocks.size()) * sizeof(bvh8::Tri4)
+                                                        : prims_.bytes(),
+                             .blocks = kBlocks,
+                             .block_count = blocks_.size(),
+                             .lanes = kept_,
+                             .dropped = dropped_});
         return s;
     }
 
@@ -245,9 +198,9 @@ public:
 
     const bvh8::Tree& tree() const { return tree_; }
     const bvh8::KernelTable& kernels() const { return *kernels_; }
-    const AlignedVector<bvh8::Tri4, 64>& blocks() const { return blocks_; }
+    const bvh8::Blocks& blocks() const { return blocks_; }
     /// The degenerate triangles' blocks, searched by closest_point() only.
-    const AlignedVector<bvh8::Tri4, 64>& sliver_blocks() const { return sliver_blocks_; }
+    const bvh8::Blocks& sliver_blocks() const { return slivers_.blocks; }
 
 protected:
     /// Coherent batches: each 16 consecutive rays that share a direction octant (and have no zero
@@ -256,7 +209,7 @@ protected:
         if (!coherent || !packets_ || tree_.nodes.empty()) return Accel::intersect_chunk(rays, hits, coherent);
         for (size_t begin = 0; begin < rays.size(); begin += bvh8::kPacketSize) {
             const uint32_t count = uint32_t(std::min<size_t>(bvh8::kPacketSize, rays.size() - begin));
-            if (count > 1 && packet_eligible(&rays[begin], count)) {
+            if (count > 1 && bvh8::packet_eligible(&rays[begin], count)) {
                 kernels_->packet_closest[kLeafKind](ctx_, &rays[begin], count, &hits[begin]);
             } else {
                 NoCounters none;
@@ -266,6 +219,12 @@ protected:
     }
 
 private:
+    /// Points the kernels' views at the trees and leaf storage this object holds.
+    void set_contexts() {
+        ctx_ = {tree_.nodes.data(), blocks_.data(), ids_.data(), &prims_, &closest_leaf, &any_leaf};
+        sliver_ctx_ = {slivers_.tree.nodes.data(), slivers_.blocks.data(), nullptr, nullptr, nullptr, nullptr};
+    }
+
     /// Calls f(hits) with every hit of the ray (AllHitsFn's), in a buffer on the stack when they
     /// are few.
     template <class F>
@@ -279,115 +238,7 @@ private:
         f(std::span<Hit>(many));
     }
 
-    /// The packet kernels' precondition: one octant, finite 1/dir on every axis (the kernels
-    /// compute 1/dir the same way).
-    static bool packet_eligible(const Ray* rays, uint32_t count) {
-        auto octant = [](const Vec3& d, bool& finite) {
-            const float inv[3] = {1.0f / d.x, 1.0f / d.y, 1.0f / d.z};
-            int o = 0;
-            for (int a = 0; a < 3; ++a) {
-                finite = finite && std::isfinite(inv[a]);
-                o |= int(std::signbit(inv[a])) << a;
-            }
-            return o;
-        };
-        bool finite = true;
-        const int first = octant(rays[0].dir, finite);
-        for (uint32_t k = 1; k < count && finite; ++k)
-            if (octant(rays[k].dir, finite) != first) return false;
-        return finite;
-    }
-
-    /// Copies a leaf's triangles into 4-lane blocks of `out`. With `slivers`, degenerate ones are
-    /// left out (they are never hit: Triangles::plausible) and their ids appended there instead;
-    /// without, every triangle is kept (the sliver tree).
-    bvh8::LeafPlacement emit_blocks(AlignedVector<bvh8::Tri4, 64>& out, const uint32_t* prims, uint32_t count,
-                                    std::vector<uint32_t>* slivers) {
-        bvh8::LeafPlacement p{uint32_t(out.size()), 0};
-        uint32_t lane = 4;
-        for (uint32_t k = 0; k < count; ++k) {
-            // A merged subtree (leaf-merge) may hold both parts of a triangle that a spatial split
-            // cut: one lane is enough. Only a tree with more references than triangles can.
-            if (references_ > primitives_ && std::find(prims, prims + k, prims[k]) != prims + k) continue;
-            const auto v = prims_.triangle(prims[k]);
-            if (slivers && Prims::degenerate({v[0], v[1], v[2]})) {
-                slivers->push_back(prims[k]);
-                continue;
-            }
-            if (lane == 4) {
-                out.emplace_back();
-                bvh8::Tri4& b = out.back();
-                for (auto& vertex : b.v)
-                    for (auto& axis : vertex)
-                        for (float& x : axis) x = 0.0f;
-                for (uint32_t& id : b.id) id = kNoPrim;
-                lane = 0;
-                ++p.size;
-            }
-            bvh8::Tri4& b = out.back();
-            for (int vertex = 0; vertex < 3; ++vertex)
-                for (int a = 0; a < 3; ++a) b.v[vertex][a][lane] = v[size_t(vertex)][a];
-            b.id[lane] = prims[k];
-            ++lane;
-            if (slivers) ++kept_;
-        }
-        return p;
-    }
-
-    /// Degenerate triangles have no interior for rays, but their points are on the surface and
-    /// brute force answers them as closest points: they get a tree of their own (usually empty or
-    /// tiny), which only the closest-point query searches, so the ray kernels never see them.
-    /// Spatial splits may list a sliver in several leaves: each is kept once, and the sliver tree
-    /// is an object-partition one (builder=sbvh falls back to binned SAH for it).
-    void build_sliver_tree(std::vector<uint32_t> slivers, const Bvh8Options& options) {
-        std::sort(slivers.begin(), slivers.end());
-        slivers.erase(std::unique(slivers.begin(), slivers.end()), slivers.end());
-        if (slivers.empty()) return;
-        std::vector<Aabb> bounds;
-        std::vector<Vec3> centroids;
-        primitive_boxes(
-            uint32_t(slivers.size()), options.binary.threads, bounds, centroids,
-            [&](uint32_t i) { return prims_.bounds(slivers[i]); }, [&](uint32_t i) { return prims_.centroid(slivers[i]); });
-        BvhBuildOptions binary_options = options.binary;
-        if (binary_options.builder == BvhBuilder::Sbvh) binary_options.builder = BvhBuilder::BinnedSah;
-        const BvhData binary = build_bvh({bounds, centroids}, binary_options);
-        std::vector<uint32_t> ids;
-        sliver_tree_ = bvh8::collapse(
-            binary,
-            [&](uint32_t first, uint32_t count) {
-                ids.clear();
-                for (uint32_t k = 0; k < count; ++k) ids.push_back(slivers[binary.prim_indices[first + k]]);
-                return emit_blocks(sliver_blocks_, ids.data(), count, nullptr);
-            },
-            options.merge_below);
-        bvh8::validate_tree(sliver_tree_, sliver_blocks_.size());
-    }
-
-    /// A loaded block: each lane either the scene's non-degenerate triangle `id` bit for bit, or
-    /// kNoPrim with all-zero vertices (never hit). Marks the triangles seen; counts kept_.
-    void check_block(uint32_t index, std::vector<bool>& seen) {
-        const bvh8::Tri4& b = blocks_[index];
-        for (int lane = 0; lane < 4; ++lane) {
-            const std::string where = "bvh8: block " + std::to_string(index) + " lane " + std::to_string(lane);
-            if (b.id[lane] == kNoPrim) {
-                for (int vertex = 0; vertex < 3; ++vertex)
-                    for (int a = 0; a < 3; ++a)
-                        if (b.v[vertex][a][lane] != 0.0f) throw Error(where + ": an empty lane with a vertex");
-                continue;
-            }
-            if (b.id[lane] >= primitives_)
-                throw Error(where + " names triangle " + std::to_string(b.id[lane]) + " of " + std::to_string(primitives_));
-            const auto v = prims_.triangle(b.id[lane]);
-            if (Prims::degenerate({v[0], v[1], v[2]}))
-                throw Error(where + " holds degenerate triangle " + std::to_string(b.id[lane]));
-            for (int vertex = 0; vertex < 3; ++vertex)
-                for (int a = 0; a < 3; ++a)
-                    if (std::bit_cast<uint32_t>(b.v[vertex][a][lane]) != std::bit_cast<uint32_t>(v[size_t(vertex)][a]))
-                        throw Error(where + ": triangle " + std::to_string(b.id[lane]) + " differs from the scene's");
-            seen[b.id[lane]] = true;
-            ++kept_;
-        }
-    }
+    /// The kernels' callback leaves (kLeafCallback): the set's own tests, id by id.
     static bool closest_leaf(const void* prims, const uint32_t* ids, uint32_t count, const Ray& ray, Hit& hit) {
         const Prims& p = *static_cast<const Prims*>(prims);
         bool found = false;
@@ -403,17 +254,16 @@ private:
 
     Prims prims_;
     size_t primitives_ = 0;
-    size_t kept_ = 0;        ///< triangle lanes filled (a triangle once per leaf listing it)
-    size_t dropped_ = 0;     ///< degenerate triangles, never stored
+    size_t kept_ = 0;        ///< block lanes filled (a triangle once per leaf listing it)
+    size_t dropped_ = 0;     ///< degenerate triangles, never in the blocks rays see
     size_t references_ = 0;  ///< entries of the binary tree's leaves
     bool packets_ = true;
     bvh8::Tree tree_;
-    AlignedVector<bvh8::Tri4, 64> blocks_;
-    std::vector<uint32_t> ids_;
+    bvh8::Blocks blocks_;         ///< leaf storage of block leaves (kBlocks)
+    std::vector<uint32_t> ids_;   ///< leaf storage of callback leaves
     const bvh8::KernelTable* kernels_;
     bvh8::TraceContext ctx_;
-    bvh8::Tree sliver_tree_;                       ///< degenerate triangles, for closest points only
-    AlignedVector<bvh8::Tri4, 64> sliver_blocks_;
+    bvh8::SliverTree slivers_;    ///< degenerate triangles, for closest points only (kBlocks)
     bvh8::TraceContext sliver_ctx_;
 };
 

@@ -2,8 +2,9 @@
 /// Saving and loading an 8-wide tree: the node array, the leaf storage (4-triangle blocks or
 /// primitive ids) and the build's figures, as they are in memory, each preceded by its length.
 /// Loading proves what the kernels rely on before anything is traced: the tree's structure
-/// (validate_tree), that every box encloses what lies below it, and (in Bvh8's loading
-/// constructor, which knows the primitives) that the leaves hold the scene's own primitives.
+/// (validate_tree), that every box encloses what lies below it, and that the leaves hold the
+/// scene's own primitives (prove_blocks, prove_ids: Bvh8's loading constructor calls one).
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <istream>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "thicket/bvh/build.h"
+#include "thicket/bvh8/blocks.h"
 #include "thicket/bvh8/build.h"
 
 namespace thicket::bvh8 {
@@ -19,17 +21,16 @@ namespace thicket::bvh8 {
 /// What a saved bvh8 holds besides its primitives' identity.
 struct SavedTree {
     Tree tree;
-    AlignedVector<Tri4, 64> blocks;  ///< triangle sets
+    Blocks blocks;                   ///< triangle sets
     std::vector<uint32_t> ids;       ///< other primitive sets
 };
 
 /// Writes the payload; `blocks` or `ids` is empty (whichever the leaf kind does not use).
-void write_tree(std::ostream& out, const Tree& tree, const AlignedVector<Tri4, 64>& blocks,
-                const std::vector<uint32_t>& ids);
+void write_tree(std::ostream& out, const Tree& tree, const Blocks& blocks, const std::vector<uint32_t>& ids);
 
 /// Reads a payload written by write_tree for a scene of `primitive_count` primitives: every
 /// length checked against it before allocating, then validate_tree. Throws Error naming what is
-/// wrong. The caller checks the leaves' contents (check_leaves) and the boxes (check_boxes).
+/// wrong. The caller then proves the leaves and the boxes (prove_blocks or prove_ids).
 SavedTree read_tree(std::istream& in, size_t primitive_count);
 
 /// Calls `id(p)` for every primitive id a leaf lane (first, size as stored in the node) lists.
@@ -45,5 +46,28 @@ void check_boxes(Tree& tree, const LeafPrimitives& leaf_primitives, std::span<co
 
 /// Calls `visit(first, size)` for every leaf lane reachable from the root.
 void for_each_leaf(const Tree& tree, const std::function<void(uint32_t first, uint32_t size)>& visit);
+
+/// What the proof of a loaded triangle tree found: the lanes filled (a triangle once per leaf
+/// listing it) and the degenerate triangles, which the sliver tree is rebuilt from (not saved).
+struct LoadedBlocks {
+    size_t lanes = 0;
+    std::vector<uint32_t> slivers;
+};
+
+/// Proves a loaded triangle tree against the scene's triangles `tris` (bounds: theirs, clip:
+/// their clipped bounds): the payload holds blocks, not ids; every block lane of a reachable leaf
+/// is either a non-degenerate triangle of the scene bit for bit or kNoPrim with all-zero
+/// vertices; the boxes enclose them (check_boxes); every non-degenerate triangle is in a leaf.
+/// Throws Error naming the first block, lane or triangle that is wrong.
+/// Tris: Triangles<TriangleTest::Moller> or Triangles<TriangleTest::Watertight> (bvh8_io.cpp).
+template <class Tris>
+LoadedBlocks prove_blocks(Tree& tree, const Blocks& blocks, const std::vector<uint32_t>& ids, const Tris& tris,
+                          std::span<const Aabb> bounds, const ClipFunction& clip);
+
+/// Proves a loaded tree of primitive-id leaves over `bounds.size()` primitives: the payload holds
+/// ids, not blocks; every id of a reachable leaf names a primitive; the boxes enclose them
+/// (check_boxes); every primitive is in a leaf. Throws Error naming the first that is wrong.
+void prove_ids(Tree& tree, const Blocks& blocks, const std::vector<uint32_t>& ids, std::span<const Aabb> bounds,
+               const ClipFunction& clip);
 
 }  // namespace thicket::bvh8

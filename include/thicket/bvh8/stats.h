@@ -1,0 +1,29 @@
+#pragma once
+/// What a bvh8 reports (`thicket info`, AccelStats): the tree's figures, its memory and, for
+/// triangle scenes, how full the 4-triangle blocks are.
+#include <cstddef>
+
+#include "thicket/accel/accel.h"
+#include "thicket/bvh8/build.h"
+
+namespace thicket::bvh8 {
+
+/// The figures stats() reports, as plain data.
+struct StatsFigures {
+    const Tree* tree = nullptr;  ///< the tree rays traverse
+    const char* isa = "";        ///< the kernels' level
+    size_t primitives = 0;       ///< in the scene
+    size_t references = 0;       ///< entries of the binary tree's leaves
+    size_t other_nodes = 0;      ///< nodes of trees rays never see (the sliver tree), memory only
+    size_t ids = 0;              ///< primitive ids stored (leaves of shapes)
+    size_t primitive_bytes = 0;  ///< the blocks, or the primitive set the leaves' ids index
+    bool blocks = false;         ///< the leaves are 4-triangle blocks: the three figures below apply
+    size_t block_count = 0;      ///< blocks rays see
+    size_t lanes = 0;            ///< their lanes filled
+    size_t dropped = 0;          ///< degenerate triangles, never stored in those blocks
+};
+
+/// Fills `s` (base_stats() already in it) from the figures.
+void fill_stats(AccelStats& s, const StatsFigures& f);
+
+}  // namespace thicket::bvh8
