@@ -8,12 +8,14 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <sstream>
 #include <string>
 
 #include "support/test_scenes.h"
 #include "thicket/accel/registry.h"
 #include "thicket/bvh/bvh.h"
 #include "thicket/bvh8/node.h"
+#include "thicket/grid/grid.h"
 #include "thicket/prims/triangles.h"
 #include "thicket/core/error.h"
 
@@ -39,6 +41,15 @@ std::string reseal(std::string bytes) {
                                               std::string_view(bytes).substr(l.payload_at));
     std::memcpy(bytes.data() + l.checksum_at, &sum, 8);
     return bytes;
+}
+
+/// The saved bytes with another payload (its length and the checksum rewritten to match).
+std::string with_payload(const std::string& bytes, const std::string& payload) {
+    const Layout l = layout_of(bytes);
+    std::string out = bytes.substr(0, l.payload_at) + payload;
+    const uint64_t length = payload.size();
+    std::memcpy(out.data() + l.checksum_at - 8, &length, 8);
+    return reseal(out);
 }
 
 std::string error_of(const std::string& bytes, const Scene& scene) {
@@ -74,7 +85,7 @@ TEST(SavedStructure, AFlippedPayloadBitIsRefusedOrHarmless) {
     for (const Ray& r : rays) truth.push_back(brute->intersect(r));
     // bvh:builder=sbvh: leaves holding clipped parts of triangles, whose coverage the validator proves.
     for (const char* spec : {"bvh", "bvh:traversal=ordered-axis", "bvh:builder=sbvh,alpha=0,budget=1,max-leaf=2", "kdtree",
-                             "kdtree:builder=median", "bih", "bvh8", "bvh8:leaf-merge=8"}) {
+                             "kdtree:builder=median", "bih", "bvh8", "bvh8:leaf-merge=8", "grid", "grid:assign=bounds"}) {
         const std::string bytes = saved_accel_bytes(*build_accel(spec, scene), scene);
         const size_t payload_at = layout_of(bytes).payload_at;
         size_t refused = 0, loaded = 0;
@@ -168,6 +179,47 @@ TEST(SavedStructure, BvhLeavesThatShareEntriesAreRefused) {
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("leaves overlap"), std::string::npos) << e.what();
     }
+}
+
+// A grid proves on loading that every cell lists every primitive the builder puts in it: a
+// payload with one entry taken out (offsets and single-cell marks kept consistent, checksum
+// resealed) is refused, so is one cut short, and so is a resolution other than the spec's.
+TEST(SavedStructure, GridsMissingAnEntryOrOfAnotherResolutionAreRefused) {
+    const Scene scene = load_scene("cornell");
+    for (const char* spec : {"grid", "grid:assign=bounds"}) {
+        const auto accel = build_accel(spec, scene);
+        const std::string bytes = saved_accel_bytes(*accel, scene);
+        ASSERT_EQ(error_of(bytes, scene), "") << spec;
+        GridData data = dynamic_cast<const Grid<Triangles<>>&>(*accel).data();
+        std::ostringstream whole;
+        write_grid(whole, data);
+        EXPECT_EQ(bytes.substr(layout_of(bytes).payload_at), whole.str());
+
+        CellLists& lists = data.lists;
+        size_t cell = 0;
+        while (lists.count(cell) == 0) ++cell;
+        lists.refs.erase(lists.refs.begin() + lists.start[cell]);
+        for (size_t c = cell + 1; c < lists.start.size(); ++c) --lists.start[c];
+        for (uint32_t& r : lists.refs) r &= kPrimMask;
+        mark_single_cell_references(lists.refs, scene.primitive_count());
+        std::ostringstream shrunk;
+        write_grid(shrunk, data);
+        const std::string missing = error_of(with_payload(bytes, shrunk.str()), scene);
+        EXPECT_NE(missing.find("saved.bin: invalid grid: cell " + std::to_string(cell) + " does not list primitive"),
+                  std::string::npos)
+            << spec << ": " << missing;
+
+        const std::string cut = error_of(with_payload(bytes, whole.str().substr(0, whole.str().size() - 4)), scene);
+        EXPECT_NE(cut.find("grid payload truncated in cell entries"), std::string::npos) << cut;
+    }
+    const std::string coarse = saved_accel_bytes(*build_accel("grid:lambda=1", scene), scene);
+    const std::string fine = saved_accel_bytes(*build_accel("grid", scene), scene);
+    const std::string other = error_of(with_payload(fine, coarse.substr(layout_of(coarse).payload_at)), scene);
+    EXPECT_NE(other.find("where the spec's options give"), std::string::npos) << other;
+
+    const Scene empty;
+    const std::string nothing = saved_accel_bytes(*build_accel("grid", empty), empty);
+    EXPECT_EQ(error_of(nothing, empty), "");
 }
 
 // The known gap, kept visible: a BSP whose plane offset was changed loads (its validator checks
