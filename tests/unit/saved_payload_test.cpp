@@ -16,6 +16,7 @@
 #include "thicket/bvh/bvh.h"
 #include "thicket/bvh8/node.h"
 #include "thicket/grid/grid.h"
+#include "thicket/octree/octree.h"
 #include "thicket/prims/triangles.h"
 #include "thicket/core/error.h"
 
@@ -85,7 +86,8 @@ TEST(SavedStructure, AFlippedPayloadBitIsRefusedOrHarmless) {
     for (const Ray& r : rays) truth.push_back(brute->intersect(r));
     // bvh:builder=sbvh: leaves holding clipped parts of triangles, whose coverage the validator proves.
     for (const char* spec : {"bvh", "bvh:traversal=ordered-axis", "bvh:builder=sbvh,alpha=0,budget=1,max-leaf=2", "kdtree",
-                             "kdtree:builder=median", "bih", "bvh8", "bvh8:leaf-merge=8", "grid", "grid:assign=bounds"}) {
+                             "kdtree:builder=median", "bih", "bvh8", "bvh8:leaf-merge=8", "grid", "grid:assign=bounds", "octree",
+                             "octree:traversal=restart"}) {
         const std::string bytes = saved_accel_bytes(*build_accel(spec, scene), scene);
         const size_t payload_at = layout_of(bytes).payload_at;
         size_t refused = 0, loaded = 0;
@@ -220,6 +222,47 @@ TEST(SavedStructure, GridsMissingAnEntryOrOfAnotherResolutionAreRefused) {
     const Scene empty;
     const std::string nothing = saved_accel_bytes(*build_accel("grid", empty), empty);
     EXPECT_EQ(error_of(nothing, empty), "");
+}
+
+// An octree proves on loading that every leaf lists every primitive whose part reaches its cell:
+// a leaf with one entry taken out (the other leaves' ranges kept consistent, checksum resealed) is
+// refused, so is a payload cut short, and so is a moved root cell.
+TEST(SavedStructure, OctreesMissingAnEntryOrWithAnotherRootAreRefused) {
+    const Scene scene = load_scene("cornell");
+    const auto accel = build_accel("octree:leaf-size=2", scene);
+    const std::string bytes = saved_accel_bytes(*accel, scene);
+    ASSERT_EQ(error_of(bytes, scene), "");
+    const OctreeData& built = dynamic_cast<const Octree<Triangles<>>&>(*accel).data();
+    auto saved_with = [&](const OctreeData& data) {
+        std::ostringstream out;
+        write_octree(out, data);
+        return with_payload(bytes, out.str());
+    };
+    EXPECT_EQ(saved_with(built), bytes);
+
+    OctreeData data = built;
+    uint32_t leaf = 0;
+    while (!data.nodes[leaf].is_leaf() || data.nodes[leaf].count == 0) ++leaf;
+    const uint32_t at = data.nodes[leaf].index;
+    data.refs.erase(data.refs.begin() + at);
+    --data.nodes[leaf].count;
+    for (OctreeNode& n : data.nodes)
+        if (n.is_leaf() && n.index > at) --n.index;
+    const std::string missing = error_of(saved_with(data), scene);
+    EXPECT_NE(missing.find("saved.bin: invalid octree: leaf " + std::to_string(leaf) + " does not list primitive"),
+              std::string::npos)
+        << missing;
+
+    const std::string payload = bytes.substr(layout_of(bytes).payload_at);
+    const std::string cut = error_of(with_payload(bytes, payload.substr(0, payload.size() - 4)), scene);
+    EXPECT_NE(cut.find("octree payload truncated in references"), std::string::npos) << cut;
+
+    data = built;
+    data.root.max.x += 1.0f;
+    EXPECT_NE(error_of(saved_with(data), scene).find("root cell"), std::string::npos);
+
+    const Scene empty;
+    EXPECT_EQ(error_of(saved_accel_bytes(*build_accel("octree", empty), empty), empty), "");
 }
 
 // The known gap, kept visible: a BSP whose plane offset was changed loads (its validator checks
