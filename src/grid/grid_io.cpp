@@ -1,7 +1,8 @@
 // Grid payloads: the resolution (three uint32), then the cell offsets and the cell entries, each
-// preceded by its length (uint64). Reading checks the lengths against the resolution and the
-// bytes left before allocating (PayloadReader), then the lists' structure; the proof over the
-// primitives is adopt_grid's (grid_io.h).
+// preceded by its length (uint64); a two-level grid's has the top resolution, the top cells, then
+// the sub-grids' cell offsets and entries. Reading checks the lengths against the resolution and
+// the bytes left before allocating (PayloadReader), then the structure; the proof over the
+// primitives is adopt_grid's and adopt_grid2's (grid_io.h).
 #include "thicket/grid/grid_io.h"
 
 #include <istream>
@@ -44,6 +45,38 @@ SavedGrid read_grid(std::istream& in, size_t primitive_count) {
     SavedGrid g;
     g.res = read_resolution(reader, "grid");
     read_cell_lists(reader, g.lists, g.res.cells(), primitive_count, "grid");
+    reader.end();
+    return g;
+}
+
+void write_grid2(std::ostream& out, const Grid2Data& g) {
+    for (const uint32_t n : g.frame.res) write_value(out, n);
+    write_counted_array<uint64_t>(out, g.top);
+    write_counted_array<uint64_t>(out, g.leaves.start);
+    write_counted_array<uint64_t>(out, g.leaves.refs);
+}
+
+SavedGrid2 read_grid2(std::istream& in, size_t primitive_count) {
+    PayloadReader reader(in, "grid2");
+    SavedGrid2 g;
+    g.res = read_resolution(reader, "grid2");
+    reader.counted_array<uint64_t>(g.top, primitive_count ? g.res.cells() : 0, "top cells");
+    if (primitive_count && g.top.size() != g.res.cells())
+        throw Error("invalid grid2: " + std::to_string(g.top.size()) + " top cells for a resolution of " +
+                    g.res.str());
+    // Sub-grids lie in the leaf lists in top cell order, each after the one before.
+    uint64_t leaf_cells = 0;
+    for (size_t c = 0; c < g.top.size(); ++c) {
+        const TopCell& tc = g.top[c];
+        const bool empty = tc.res[0] == 0 && tc.res[1] == 0 && tc.res[2] == 0 && tc.first_leaf == 0;
+        const bool next = tc.res[0] != 0 && tc.res[1] != 0 && tc.res[2] != 0 && tc.first_leaf == leaf_cells;
+        if (tc.unused != 0 || !(empty || next))
+            throw Error("invalid grid2: top cell " + std::to_string(c) + " is neither empty nor the next sub-grid");
+        leaf_cells += uint64_t(tc.res[0]) * tc.res[1] * tc.res[2];
+        if (leaf_cells > kMaxGridCells)
+            throw Error("invalid grid2: the sub-grids have more than " + std::to_string(kMaxGridCells) + " cells");
+    }
+    read_cell_lists(reader, g.leaves, leaf_cells, primitive_count, "grid2");
     reader.end();
     return g;
 }

@@ -16,6 +16,7 @@
 #include "thicket/bvh/bvh.h"
 #include "thicket/bvh8/node.h"
 #include "thicket/grid/grid.h"
+#include "thicket/grid/grid2.h"
 #include "thicket/octree/octree.h"
 #include "thicket/prims/triangles.h"
 #include "thicket/core/error.h"
@@ -86,7 +87,7 @@ TEST(SavedStructure, AFlippedPayloadBitIsRefusedOrHarmless) {
     for (const Ray& r : rays) truth.push_back(brute->intersect(r));
     // bvh:builder=sbvh: leaves holding clipped parts of triangles, whose coverage the validator proves.
     for (const char* spec : {"bvh", "bvh:traversal=ordered-axis", "bvh:builder=sbvh,alpha=0,budget=1,max-leaf=2", "kdtree",
-                             "kdtree:builder=median", "bih", "bvh8", "bvh8:leaf-merge=8", "grid", "grid:assign=bounds", "octree",
+                             "kdtree:builder=median", "bih", "bvh8", "bvh8:leaf-merge=8", "grid", "grid:assign=bounds", "grid2", "octree",
                              "octree:traversal=restart"}) {
         const std::string bytes = saved_accel_bytes(*build_accel(spec, scene), scene);
         const size_t payload_at = layout_of(bytes).payload_at;
@@ -183,6 +184,18 @@ TEST(SavedStructure, BvhLeavesThatShareEntriesAreRefused) {
     }
 }
 
+/// Takes the first entry out of the first non-empty cell of `lists`, keeping the offsets and the
+/// single-cell marks consistent; returns that cell.
+size_t drop_first_entry(CellLists& lists, size_t primitive_count) {
+    size_t cell = 0;
+    while (lists.count(cell) == 0) ++cell;
+    lists.refs.erase(lists.refs.begin() + lists.start[cell]);
+    for (size_t c = cell + 1; c < lists.start.size(); ++c) --lists.start[c];
+    for (uint32_t& r : lists.refs) r &= kPrimMask;
+    mark_single_cell_references(lists.refs, primitive_count);
+    return cell;
+}
+
 // A grid proves on loading that every cell lists every primitive the builder puts in it: a
 // payload with one entry taken out (offsets and single-cell marks kept consistent, checksum
 // resealed) is refused, so is one cut short, and so is a resolution other than the spec's.
@@ -197,13 +210,7 @@ TEST(SavedStructure, GridsMissingAnEntryOrOfAnotherResolutionAreRefused) {
         write_grid(whole, data);
         EXPECT_EQ(bytes.substr(layout_of(bytes).payload_at), whole.str());
 
-        CellLists& lists = data.lists;
-        size_t cell = 0;
-        while (lists.count(cell) == 0) ++cell;
-        lists.refs.erase(lists.refs.begin() + lists.start[cell]);
-        for (size_t c = cell + 1; c < lists.start.size(); ++c) --lists.start[c];
-        for (uint32_t& r : lists.refs) r &= kPrimMask;
-        mark_single_cell_references(lists.refs, scene.primitive_count());
+        const size_t cell = drop_first_entry(data.lists, scene.primitive_count());
         std::ostringstream shrunk;
         write_grid(shrunk, data);
         const std::string missing = error_of(with_payload(bytes, shrunk.str()), scene);
@@ -222,6 +229,37 @@ TEST(SavedStructure, GridsMissingAnEntryOrOfAnotherResolutionAreRefused) {
     const Scene empty;
     const std::string nothing = saved_accel_bytes(*build_accel("grid", empty), empty);
     EXPECT_EQ(error_of(nothing, empty), "");
+}
+
+// The two-level grid likewise: its sub-grids' cells must list every primitive the builder puts in
+// them, and every top cell's sub-grid must have the builder's resolution.
+TEST(SavedStructure, TwoLevelGridsMissingAnEntryOrOfAnotherSubGridAreRefused) {
+    const Scene scene = load_scene("cornell");
+    const auto accel = build_accel("grid2", scene);
+    const std::string bytes = saved_accel_bytes(*accel, scene);
+    ASSERT_EQ(error_of(bytes, scene), "");
+    Grid2Data data = dynamic_cast<const TwoLevelGrid<Triangles<>>&>(*accel).data();
+    std::ostringstream whole;
+    write_grid2(whole, data);
+    EXPECT_EQ(bytes.substr(layout_of(bytes).payload_at), whole.str());
+
+    const size_t cell = drop_first_entry(data.leaves, scene.primitive_count());
+    std::ostringstream shrunk;
+    write_grid2(shrunk, data);
+    const std::string missing = error_of(with_payload(bytes, shrunk.str()), scene);
+    EXPECT_NE(missing.find("saved.bin: invalid grid2: cell " + std::to_string(cell) + " does not list primitive"),
+              std::string::npos)
+        << missing;
+
+    const std::string cut = error_of(with_payload(bytes, whole.str().substr(0, whole.str().size() - 4)), scene);
+    EXPECT_NE(cut.find("grid2 payload truncated in cell entries"), std::string::npos) << cut;
+
+    const std::string finer = saved_accel_bytes(*build_accel("grid2:leaf=80", scene), scene);
+    const std::string other = error_of(with_payload(bytes, finer.substr(layout_of(finer).payload_at)), scene);
+    EXPECT_NE(other.find("sub-grid, where the builder makes"), std::string::npos) << other;
+
+    const Scene empty;
+    EXPECT_EQ(error_of(saved_accel_bytes(*build_accel("grid2", empty), empty), empty), "");
 }
 
 // An octree proves on loading that every leaf lists every primitive whose part reaches its cell:
