@@ -119,9 +119,6 @@ TEST(SavedStructure, AFlippedPayloadBitIsRefusedOrHarmless) {
     }
 }
 
-// Found by the fuzz.saved replay (the input is fuzz/regressions/saved/bvh-leaves-overlap.bin,
-// which fuzz.saved replays): a leaf whose first entry was changed to another leaf's still covered
-// n entries in total, fit its box, and loaded; two triangles became unreachable.
 /// Loading a bvh8 proves more than its structure: each change below keeps the file well formed
 /// (checksum resealed) and must be refused by name.
 TEST(SavedStructure, Bvh8RefusesShrunkBoxesForeignTrianglesAndFilledEmptyLanes) {
@@ -167,6 +164,9 @@ TEST(SavedStructure, Bvh8RefusesShrunkBoxesForeignTrianglesAndFilledEmptyLanes) 
         << error_of(reseal(renamed), scene);
 }
 
+// Found by the fuzz.saved replay (the input is fuzz/regressions/saved/bvh-leaves-overlap.bin,
+// which fuzz.saved replays): a leaf whose first entry was changed to another leaf's still covered
+// n entries in total, fit its box, and loaded; two triangles became unreachable.
 TEST(SavedStructure, BvhLeavesThatShareEntriesAreRefused) {
     const Scene scene = load_scene("cornell");
     const auto accel = build_accel("bvh:max-leaf=2", scene);
