@@ -1,6 +1,6 @@
-// BIH payload: the root box, then the arrays as they are in memory (the BIH is relocatable),
-// each preceded by its length. Reading checks the lengths against the scene before allocating,
-// then the structure.
+// BIH payload: the root box, the arrays' lengths, then the arrays as they are in memory (the BIH
+// is relocatable). Reading checks the lengths against the scene and the bytes left before
+// allocating (PayloadReader), then the structure.
 #include <istream>
 #include <ostream>
 #include <string>
@@ -29,14 +29,9 @@ BihData read_bih(std::istream& in, size_t primitive_count) {
     if (prims != primitive_count)
         throw Error("BIH payload holds " + std::to_string(prims) + " primitives, the scene " +
                     std::to_string(primitive_count));
-    if (nodes > 4 * size_t(prims) + 1)
-        throw Error("BIH payload claims " + std::to_string(nodes) + " nodes for " + std::to_string(prims) +
-                    " primitives");
-    bih.nodes.resize(nodes);
-    bih.prim_indices.resize(prims);
-    reader.array(bih.nodes.data(), nodes, "nodes");
-    reader.array(bih.prim_indices.data(), prims, "primitive indices");
-    if (in.peek() != std::char_traits<char>::eof()) throw Error("BIH payload has trailing bytes");
+    reader.array(bih.nodes, nodes, 4 * uint64_t(prims) + 1, "nodes");
+    reader.array(bih.prim_indices, prims, prims, "primitive indices");
+    reader.end();
     validate_bih(bih, primitive_count);
     return bih;
 }

@@ -1,6 +1,7 @@
 // BSP payload: the arrays as they are in memory (the tree is relocatable), each preceded by its
 // length, then the root box, the scale and the splinter figures. Reading checks every length
-// against the scene before allocating, then the whole structure (validate_bsp).
+// against the scene and the bytes left before allocating (PayloadReader), then the whole
+// structure (validate_bsp).
 #include <cmath>
 #include <istream>
 #include <ostream>
@@ -44,14 +45,9 @@ BspData read_bsp(std::istream& in, size_t primitive_count) {
     reader.value(nodes, "node count");
     reader.value(refs, "reference count");
     const uint64_t max_refs = kMaxBudget * primitive_count;
-    if (refs > max_refs || nodes > 2 * max_refs + 1)
-        throw Error("BSP payload claims " + std::to_string(nodes) + " nodes and " + std::to_string(refs) +
-                    " references for " + std::to_string(primitive_count) + " primitives");
     BspData bsp;
-    bsp.nodes.resize(nodes);
-    bsp.refs.resize(refs);
-    reader.array(bsp.nodes.data(), nodes, "nodes");
-    reader.array(bsp.refs.data(), refs, "references");
+    reader.array(bsp.nodes, nodes, 2 * max_refs + 1, "nodes");
+    reader.array(bsp.refs, refs, max_refs, "references");
     reader.value(bsp.bounds, "bounds");
     reader.value(bsp.scale, "scale");
     BspSplinters& f = bsp.splinters;
@@ -64,7 +60,7 @@ BspData read_bsp(std::istream& in, size_t primitive_count) {
     reader.value(polygons, "splinter figures");
     if (polygons > 1) throw Error("BSP payload: fragment kind " + std::to_string(polygons) + " is neither 0 nor 1");
     f.polygons = polygons == 1;
-    if (in.peek() != std::char_traits<char>::eof()) throw Error("BSP payload has trailing bytes");
+    reader.end();
     validate_bsp(bsp, primitive_count);
     return bsp;
 }

@@ -1,5 +1,6 @@
-// BVH payload: the arrays as they are in memory (the BVH is relocatable), each preceded by its
-// length. Reading checks every length against the scene before allocating, then the structure.
+// BVH payload: the arrays' lengths, then the arrays as they are in memory (the BVH is
+// relocatable). Reading checks every length against the scene and the bytes left before
+// allocating (PayloadReader), then the structure.
 #include <istream>
 #include <ostream>
 
@@ -28,18 +29,12 @@ BvhData read_bvh(std::istream& in, size_t primitive_count) {
         throw Error("BVH payload holds " + std::to_string(entries) + " primitive indices, the scene " +
                     std::to_string(primitive_count) + " primitives (at most " +
                     std::to_string(kMaxReferencesPerPrimitive) + " indices per primitive)");
-    if (nodes_used > 2 * size_t(entries))
-        throw Error("BVH payload claims " + std::to_string(nodes_used) + " nodes for " + std::to_string(entries) +
-                    " primitive indices");
     BvhData bvh;
     bvh.nodes_used = nodes_used;
-    bvh.nodes.resize(nodes_used);
-    bvh.child_order.resize(nodes_used);
-    bvh.prim_indices.resize(entries);
-    reader.array(bvh.nodes.data(), nodes_used, "nodes");
-    reader.array(bvh.child_order.data(), nodes_used, "child order");
-    reader.array(bvh.prim_indices.data(), entries, "primitive indices");
-    if (in.peek() != std::char_traits<char>::eof()) throw Error("BVH payload has trailing bytes");
+    reader.array(bvh.nodes, nodes_used, 2 * uint64_t(entries), "nodes");
+    reader.array(bvh.child_order, nodes_used, nodes_used, "child order");
+    reader.array(bvh.prim_indices, entries, entries, "primitive indices");
+    reader.end();
     validate_bvh(bvh, primitive_count);
     return bvh;
 }

@@ -27,6 +27,24 @@ OptionInfo assign_option() {
 
 GridAssign assign_of(const AccelSpec& spec) { return spec.choice("assign", kAssign); }
 
+GridOptions grid_options(const AccelSpec& spec) {
+    GridOptions o;
+    o.lambda = double(spec.get_int("lambda"));
+    o.res = uint32_t(spec.get_int("res"));
+    o.mailbox = spec.choice("mailbox", kMailbox);
+    o.assign = assign_of(spec);
+    return o;
+}
+
+Grid2Options grid2_options(const AccelSpec& spec) {
+    Grid2Options o;
+    o.top_density = double(spec.get_int("top")) / 16.0;
+    o.leaf_density = double(spec.get_int("leaf")) / 16.0;
+    o.mailbox = spec.choice("mailbox", kMailbox);
+    o.assign = assign_of(spec);
+    return o;
+}
+
 }  // namespace
 
 void register_grid(std::vector<AccelInfo>& registry) {
@@ -51,13 +69,16 @@ void register_grid(std::vector<AccelInfo>& registry) {
         "grid:isect=watertight",
     };
     info.build = [](const Scene& scene, const AccelSpec& spec) {
-        GridOptions o;
-        o.lambda = double(spec.get_int("lambda"));
-        o.res = uint32_t(spec.get_int("res"));
-        o.mailbox = spec.choice("mailbox", kMailbox);
-        o.assign = assign_of(spec);
+        const GridOptions o = grid_options(spec);
         return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
             return std::make_unique<Grid<decltype(prims)>>(std::move(prims), o);
+        });
+    };
+    info.load = [](std::istream& in, const Scene& scene, const AccelSpec& spec) {
+        SavedGrid saved = read_grid(in, scene.primitive_count());
+        const GridOptions o = grid_options(spec);
+        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
+            return std::make_unique<Grid<decltype(prims)>>(std::move(prims), std::move(saved), o);
         });
     };
     registry.push_back(std::move(info));
@@ -83,13 +104,16 @@ void register_grid2(std::vector<AccelInfo>& registry) {
         "grid2:isect=watertight",
     };
     info.build = [](const Scene& scene, const AccelSpec& spec) {
-        Grid2Options o;
-        o.top_density = double(spec.get_int("top")) / 16.0;
-        o.leaf_density = double(spec.get_int("leaf")) / 16.0;
-        o.mailbox = spec.choice("mailbox", kMailbox);
-        o.assign = assign_of(spec);
+        const Grid2Options o = grid2_options(spec);
         return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
             return std::make_unique<TwoLevelGrid<decltype(prims)>>(std::move(prims), o);
+        });
+    };
+    info.load = [](std::istream& in, const Scene& scene, const AccelSpec& spec) {
+        SavedGrid2 saved = read_grid2(in, scene.primitive_count());
+        const Grid2Options o = grid2_options(spec);
+        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
+            return std::make_unique<TwoLevelGrid<decltype(prims)>>(std::move(prims), std::move(saved), o);
         });
     };
     registry.push_back(std::move(info));

@@ -1,6 +1,6 @@
 // kD-tree payload: counts, the root voxel, then the arrays as they are in memory (the tree is
-// relocatable). Reading checks the counts against the bytes present before allocating, then the
-// structure.
+// relocatable). Reading checks the counts against the bytes left before allocating
+// (PayloadReader), then the structure.
 #include <istream>
 #include <ostream>
 
@@ -30,19 +30,11 @@ KdTreeData read_kdtree(std::istream& in, size_t primitive_count) {
     if (tree.primitives != primitive_count)
         throw Error("kD-tree payload holds " + std::to_string(tree.primitives) + " primitives, the scene " +
                     std::to_string(primitive_count));
-    // The payload must hold exactly the arrays it announces: checked before allocating them.
-    const auto here = in.tellg();
-    in.seekg(0, std::ios::end);
-    const auto end = in.tellg();
-    in.seekg(here);
-    const uint64_t want = uint64_t(nodes) * sizeof(KdNode) + uint64_t(refs) * sizeof(uint32_t);
-    if (here < 0 || end < here || uint64_t(end - here) != want)
-        throw Error("kD-tree payload size does not match its " + std::to_string(nodes) + " nodes and " +
-                    std::to_string(refs) + " references");
-    tree.nodes.resize(nodes);
-    tree.prim_indices.resize(refs);
-    reader.array(tree.nodes.data(), nodes, "nodes");
-    reader.array(tree.prim_indices.data(), refs, "primitive references");
+    // Node indices are 30-bit fields; references are bounded by the bytes left only (perfect
+    // splits may list a primitive in many leaves).
+    reader.array(tree.nodes, nodes, uint64_t(kKdMaxField) + 1, "nodes");
+    reader.array(tree.prim_indices, refs, PayloadReader::kAnyCount, "primitive references");
+    reader.end();
     validate_kdtree(tree, primitive_count);
     return tree;
 }

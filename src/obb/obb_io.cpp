@@ -1,5 +1,6 @@
-// OBB tree payload: the arrays as they are in memory, each preceded by its length. Reading
-// checks every length against the scene before allocating, then the structure.
+// OBB tree payload: the arrays' lengths, then the arrays as they are in memory. Reading checks
+// every length against the scene and the bytes left before allocating (PayloadReader), then the
+// structure.
 #include <istream>
 #include <ostream>
 #include <string>
@@ -25,15 +26,10 @@ ObbData read_obb(std::istream& in, size_t primitive_count) {
     if (prims != primitive_count)
         throw Error("OBB payload holds " + std::to_string(prims) + " primitives, the scene " +
                     std::to_string(primitive_count));
-    if (nodes > 2 * size_t(prims))
-        throw Error("OBB payload claims " + std::to_string(nodes) + " nodes for " + std::to_string(prims) +
-                    " primitives");
     ObbData obb;
-    obb.nodes.resize(nodes);
-    obb.prim_indices.resize(prims);
-    reader.array(obb.nodes.data(), nodes, "nodes");
-    reader.array(obb.prim_indices.data(), prims, "primitive indices");
-    if (in.peek() != std::char_traits<char>::eof()) throw Error("OBB payload has trailing bytes");
+    reader.array(obb.nodes, nodes, 2 * uint64_t(prims), "nodes");
+    reader.array(obb.prim_indices, prims, prims, "primitive indices");
+    reader.end();
     validate_obb(obb, primitive_count);
     return obb;
 }

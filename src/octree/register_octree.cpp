@@ -38,6 +38,13 @@ void register_octree(std::vector<AccelInfo>& registry) {
             return std::make_unique<Octree<decltype(prims)>>(std::move(prims), o, t);
         });
     };
+    info.load = [](std::istream& in, const Scene& scene, const AccelSpec& spec) {
+        OctreeData data = read_octree(in, scene.primitive_count());
+        const OctreeTraversal t = spec.choice("traversal", kTraversals);
+        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
+            return std::make_unique<Octree<decltype(prims)>>(std::move(prims), std::move(data), t);
+        });
+    };
     registry.push_back(std::move(info));
 }
 

@@ -365,7 +365,8 @@ TEST(KdSave, RoundTripAndBrokenPayloadsAreRefused) {
         }
         return std::string();
     };
-    EXPECT_NE(error_of(bytes.substr(0, bytes.size() - 4), scene.primitive_count()).find("size"), std::string::npos);
+    EXPECT_NE(error_of(bytes.substr(0, bytes.size() - 4), scene.primitive_count()).find("truncated in primitive references"),
+              std::string::npos);
     EXPECT_NE(error_of(bytes.substr(0, 6), scene.primitive_count()).find("truncated"), std::string::npos);
     EXPECT_NE(error_of(bytes, scene.primitive_count() + 1).find("primitives"), std::string::npos);
 

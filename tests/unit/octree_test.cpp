@@ -269,17 +269,45 @@ TEST(OctreeTraversal, MailboxTestsAPrimitiveOncePerQuery) {
     }
 }
 
-TEST(OctreeSpec, OptionsAreCheckedAndSavingIsRefused) {
+TEST(OctreeSpec, OptionsAreChecked) {
     EXPECT_THROW(parse_accel_spec("octree:max-depth=17"), Error);
     EXPECT_THROW(parse_accel_spec("octree:leaf-size=0"), Error);
     EXPECT_THROW(parse_accel_spec("octree:traversal=ropes"), Error);
     OctreeBuildOptions bad;
     bad.max_depth = 40;
     EXPECT_THROW(build_octree({}, {}, bad), Error);
+}
+
+// validate_octree names each structural defect of a tree edited in memory.
+TEST(OctreeSave, StructuralDefectsAreNamed) {
     const Scene scene = soup();
-    auto accel = build_accel("octree", scene);
+    auto accel = build_accel("octree:leaf-size=2", scene);
+    const OctreeData& built = dynamic_cast<const Octree<Triangles<>>&>(*accel).data();
+    ASSERT_FALSE(built.nodes[0].is_leaf());
     std::ostringstream out;
-    EXPECT_THROW(accel->save(out), Error);
+    accel->save(out);
+    std::istringstream in(out.str());
+    const OctreeData back = read_octree(in, scene.primitive_count());
+    EXPECT_EQ(back.refs, built.refs);
+    EXPECT_EQ(back.nodes.size(), built.nodes.size());
+    auto broken = [&](auto edit, const std::string& needle) {
+        OctreeData d = built;
+        edit(d);
+        try {
+            validate_octree(d, scene.primitive_count());
+            ADD_FAILURE() << "validate_octree accepted: " << needle;
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+        }
+    };
+    broken([](OctreeData& d) { d.nodes[0].index = 0; }, "children out of range");
+    broken([](OctreeData& d) { d.nodes[0].index = uint32_t(d.nodes.size() - 7); }, "children out of range");
+    broken([](OctreeData& d) { d.refs[0] = 1u << 30; }, "reference to primitive");
+    broken([](OctreeData& d) { d.nodes.emplace_back(); }, "unreachable");
+    broken([](OctreeData& d) {
+        for (OctreeNode& n : d.nodes)
+            if (n.is_leaf()) n.count = uint32_t(d.refs.size()) + 1;
+    }, "references out of range");
 }
 
 TEST(OctreeSpec, EmptySceneHasNoNodesAndMissesEverything) {

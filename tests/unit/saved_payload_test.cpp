@@ -8,12 +8,16 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <sstream>
 #include <string>
 
 #include "support/test_scenes.h"
 #include "thicket/accel/registry.h"
 #include "thicket/bvh/bvh.h"
 #include "thicket/bvh8/node.h"
+#include "thicket/grid/grid.h"
+#include "thicket/grid/grid2.h"
+#include "thicket/octree/octree.h"
 #include "thicket/prims/triangles.h"
 #include "thicket/core/error.h"
 
@@ -39,6 +43,15 @@ std::string reseal(std::string bytes) {
                                               std::string_view(bytes).substr(l.payload_at));
     std::memcpy(bytes.data() + l.checksum_at, &sum, 8);
     return bytes;
+}
+
+/// The saved bytes with another payload (its length and the checksum rewritten to match).
+std::string with_payload(const std::string& bytes, const std::string& payload) {
+    const Layout l = layout_of(bytes);
+    std::string out = bytes.substr(0, l.payload_at) + payload;
+    const uint64_t length = payload.size();
+    std::memcpy(out.data() + l.checksum_at - 8, &length, 8);
+    return reseal(out);
 }
 
 std::string error_of(const std::string& bytes, const Scene& scene) {
@@ -74,7 +87,8 @@ TEST(SavedStructure, AFlippedPayloadBitIsRefusedOrHarmless) {
     for (const Ray& r : rays) truth.push_back(brute->intersect(r));
     // bvh:builder=sbvh: leaves holding clipped parts of triangles, whose coverage the validator proves.
     for (const char* spec : {"bvh", "bvh:traversal=ordered-axis", "bvh:builder=sbvh,alpha=0,budget=1,max-leaf=2", "kdtree",
-                             "kdtree:builder=median", "bih", "bvh8", "bvh8:leaf-merge=8"}) {
+                             "kdtree:builder=median", "bih", "bvh8", "bvh8:leaf-merge=8", "grid", "grid:assign=bounds", "grid2", "octree",
+                             "octree:traversal=restart"}) {
         const std::string bytes = saved_accel_bytes(*build_accel(spec, scene), scene);
         const size_t payload_at = layout_of(bytes).payload_at;
         size_t refused = 0, loaded = 0;
@@ -105,9 +119,6 @@ TEST(SavedStructure, AFlippedPayloadBitIsRefusedOrHarmless) {
     }
 }
 
-// Found by the fuzz.saved replay (the input is fuzz/regressions/saved/bvh-leaves-overlap.bin,
-// which fuzz.saved replays): a leaf whose first entry was changed to another leaf's still covered
-// n entries in total, fit its box, and loaded; two triangles became unreachable.
 /// Loading a bvh8 proves more than its structure: each change below keeps the file well formed
 /// (checksum resealed) and must be refused by name.
 TEST(SavedStructure, Bvh8RefusesShrunkBoxesForeignTrianglesAndFilledEmptyLanes) {
@@ -153,6 +164,9 @@ TEST(SavedStructure, Bvh8RefusesShrunkBoxesForeignTrianglesAndFilledEmptyLanes) 
         << error_of(reseal(renamed), scene);
 }
 
+// Found by the fuzz.saved replay (the input is fuzz/regressions/saved/bvh-leaves-overlap.bin,
+// which fuzz.saved replays): a leaf whose first entry was changed to another leaf's still covered
+// n entries in total, fit its box, and loaded; two triangles became unreachable.
 TEST(SavedStructure, BvhLeavesThatShareEntriesAreRefused) {
     const Scene scene = load_scene("cornell");
     const auto accel = build_accel("bvh:max-leaf=2", scene);
@@ -168,6 +182,125 @@ TEST(SavedStructure, BvhLeavesThatShareEntriesAreRefused) {
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("leaves overlap"), std::string::npos) << e.what();
     }
+}
+
+/// Takes the first entry out of the first non-empty cell of `lists`, keeping the offsets and the
+/// single-cell marks consistent; returns that cell.
+size_t drop_first_entry(CellLists& lists, size_t primitive_count) {
+    size_t cell = 0;
+    while (lists.count(cell) == 0) ++cell;
+    lists.refs.erase(lists.refs.begin() + lists.start[cell]);
+    for (size_t c = cell + 1; c < lists.start.size(); ++c) --lists.start[c];
+    for (uint32_t& r : lists.refs) r &= kPrimMask;
+    mark_single_cell_references(lists.refs, primitive_count);
+    return cell;
+}
+
+// A grid proves on loading that every cell lists every primitive the builder puts in it: a
+// payload with one entry taken out (offsets and single-cell marks kept consistent, checksum
+// resealed) is refused, so is one cut short, and so is a resolution other than the spec's.
+TEST(SavedStructure, GridsMissingAnEntryOrOfAnotherResolutionAreRefused) {
+    const Scene scene = load_scene("cornell");
+    for (const char* spec : {"grid", "grid:assign=bounds"}) {
+        const auto accel = build_accel(spec, scene);
+        const std::string bytes = saved_accel_bytes(*accel, scene);
+        ASSERT_EQ(error_of(bytes, scene), "") << spec;
+        GridData data = dynamic_cast<const Grid<Triangles<>>&>(*accel).data();
+        std::ostringstream whole;
+        write_grid(whole, data);
+        EXPECT_EQ(bytes.substr(layout_of(bytes).payload_at), whole.str());
+
+        const size_t cell = drop_first_entry(data.lists, scene.primitive_count());
+        std::ostringstream shrunk;
+        write_grid(shrunk, data);
+        const std::string missing = error_of(with_payload(bytes, shrunk.str()), scene);
+        EXPECT_NE(missing.find("saved.bin: invalid grid: cell " + std::to_string(cell) + " does not list primitive"),
+                  std::string::npos)
+            << spec << ": " << missing;
+
+        const std::string cut = error_of(with_payload(bytes, whole.str().substr(0, whole.str().size() - 4)), scene);
+        EXPECT_NE(cut.find("grid payload truncated in cell entries"), std::string::npos) << cut;
+    }
+    const std::string coarse = saved_accel_bytes(*build_accel("grid:lambda=1", scene), scene);
+    const std::string fine = saved_accel_bytes(*build_accel("grid", scene), scene);
+    const std::string other = error_of(with_payload(fine, coarse.substr(layout_of(coarse).payload_at)), scene);
+    EXPECT_NE(other.find("where the spec's options give"), std::string::npos) << other;
+
+    const Scene empty;
+    const std::string nothing = saved_accel_bytes(*build_accel("grid", empty), empty);
+    EXPECT_EQ(error_of(nothing, empty), "");
+}
+
+// The two-level grid likewise: its sub-grids' cells must list every primitive the builder puts in
+// them, and every top cell's sub-grid must have the builder's resolution.
+TEST(SavedStructure, TwoLevelGridsMissingAnEntryOrOfAnotherSubGridAreRefused) {
+    const Scene scene = load_scene("cornell");
+    const auto accel = build_accel("grid2", scene);
+    const std::string bytes = saved_accel_bytes(*accel, scene);
+    ASSERT_EQ(error_of(bytes, scene), "");
+    Grid2Data data = dynamic_cast<const TwoLevelGrid<Triangles<>>&>(*accel).data();
+    std::ostringstream whole;
+    write_grid2(whole, data);
+    EXPECT_EQ(bytes.substr(layout_of(bytes).payload_at), whole.str());
+
+    const size_t cell = drop_first_entry(data.leaves, scene.primitive_count());
+    std::ostringstream shrunk;
+    write_grid2(shrunk, data);
+    const std::string missing = error_of(with_payload(bytes, shrunk.str()), scene);
+    EXPECT_NE(missing.find("saved.bin: invalid grid2: cell " + std::to_string(cell) + " does not list primitive"),
+              std::string::npos)
+        << missing;
+
+    const std::string cut = error_of(with_payload(bytes, whole.str().substr(0, whole.str().size() - 4)), scene);
+    EXPECT_NE(cut.find("grid2 payload truncated in cell entries"), std::string::npos) << cut;
+
+    const std::string finer = saved_accel_bytes(*build_accel("grid2:leaf=80", scene), scene);
+    const std::string other = error_of(with_payload(bytes, finer.substr(layout_of(finer).payload_at)), scene);
+    EXPECT_NE(other.find("sub-grid, where the builder makes"), std::string::npos) << other;
+
+    const Scene empty;
+    EXPECT_EQ(error_of(saved_accel_bytes(*build_accel("grid2", empty), empty), empty), "");
+}
+
+// An octree proves on loading that every leaf lists every primitive whose part reaches its cell:
+// a leaf with one entry taken out (the other leaves' ranges kept consistent, checksum resealed) is
+// refused, so is a payload cut short, and so is a moved root cell.
+TEST(SavedStructure, OctreesMissingAnEntryOrWithAnotherRootAreRefused) {
+    const Scene scene = load_scene("cornell");
+    const auto accel = build_accel("octree:leaf-size=2", scene);
+    const std::string bytes = saved_accel_bytes(*accel, scene);
+    ASSERT_EQ(error_of(bytes, scene), "");
+    const OctreeData& built = dynamic_cast<const Octree<Triangles<>>&>(*accel).data();
+    auto saved_with = [&](const OctreeData& data) {
+        std::ostringstream out;
+        write_octree(out, data);
+        return with_payload(bytes, out.str());
+    };
+    EXPECT_EQ(saved_with(built), bytes);
+
+    OctreeData data = built;
+    uint32_t leaf = 0;
+    while (!data.nodes[leaf].is_leaf() || data.nodes[leaf].count == 0) ++leaf;
+    const uint32_t at = data.nodes[leaf].index;
+    data.refs.erase(data.refs.begin() + at);
+    --data.nodes[leaf].count;
+    for (OctreeNode& n : data.nodes)
+        if (n.is_leaf() && n.index > at) --n.index;
+    const std::string missing = error_of(saved_with(data), scene);
+    EXPECT_NE(missing.find("saved.bin: invalid octree: leaf " + std::to_string(leaf) + " does not list primitive"),
+              std::string::npos)
+        << missing;
+
+    const std::string payload = bytes.substr(layout_of(bytes).payload_at);
+    const std::string cut = error_of(with_payload(bytes, payload.substr(0, payload.size() - 4)), scene);
+    EXPECT_NE(cut.find("octree payload truncated in references"), std::string::npos) << cut;
+
+    data = built;
+    data.root.max.x += 1.0f;
+    EXPECT_NE(error_of(saved_with(data), scene).find("root cell"), std::string::npos);
+
+    const Scene empty;
+    EXPECT_EQ(error_of(saved_accel_bytes(*build_accel("octree", empty), empty), empty), "");
 }
 
 // The known gap, kept visible: a BSP whose plane offset was changed loads (its validator checks

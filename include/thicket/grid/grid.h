@@ -4,6 +4,7 @@
 /// per-ray mailbox. Usable directly (no virtual call) or through the Accel interface.
 #include "thicket/accel/accel.h"
 #include "thicket/grid/grid_build.h"
+#include "thicket/grid/grid_io.h"
 #include "thicket/grid/grid_stats.h"
 #include "thicket/grid/grid_traversal.h"
 
@@ -14,6 +15,11 @@ class Grid final : public AccelBase<Grid<Prims>> {
 public:
     Grid(Prims prims, const GridOptions& options) : prims_(std::move(prims)), options_(options) {
         data_ = build_grid(prims_, options_);
+    }
+
+    /// Adopts a saved grid after proving it answers like the one these options build (adopt_grid).
+    Grid(Prims prims, SavedGrid saved, const GridOptions& options) : prims_(std::move(prims)), options_(options) {
+        data_ = adopt_grid(prims_, std::move(saved), options_);
     }
 
     Aabb bounds() const override { return data_.box; }
@@ -54,6 +60,8 @@ public:
         s.extra.emplace_back("largest cell", std::to_string(f.max_refs) + " references");
         return s;
     }
+
+    void save(std::ostream& out) const override { write_grid(out, data_); }
 
     const GridData& data() const { return data_; }
     const Prims& primitives() const { return prims_; }

@@ -5,6 +5,7 @@
 #include "thicket/accel/accel.h"
 #include "thicket/grid/grid2_build.h"
 #include "thicket/grid/grid2_traversal.h"
+#include "thicket/grid/grid_io.h"
 #include "thicket/grid/grid_stats.h"
 
 namespace thicket {
@@ -14,6 +15,12 @@ class TwoLevelGrid final : public AccelBase<TwoLevelGrid<Prims>> {
 public:
     TwoLevelGrid(Prims prims, const Grid2Options& options) : prims_(std::move(prims)), options_(options) {
         data_ = build_grid2(prims_, options_);
+    }
+
+    /// Adopts a saved grid after proving it answers like the one these options build (adopt_grid2).
+    TwoLevelGrid(Prims prims, SavedGrid2 saved, const Grid2Options& options)
+        : prims_(std::move(prims)), options_(options) {
+        data_ = adopt_grid2(prims_, std::move(saved), options_);
     }
 
     Aabb bounds() const override { return data_.box; }
@@ -60,6 +67,8 @@ public:
         s.extra.emplace_back("largest cell", std::to_string(f.leaf.max_refs) + " references");
         return s;
     }
+
+    void save(std::ostream& out) const override { write_grid2(out, data_); }
 
     const Grid2Data& data() const { return data_; }
     const Prims& primitives() const { return prims_; }

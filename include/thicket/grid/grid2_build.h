@@ -53,14 +53,22 @@ struct Grid2Data {
     }
 };
 
+/// The top level's resolution over `prims` primitives whose bounds are `box`.
+inline GridResolution grid2_top_resolution(const Aabb& box, size_t prims, const Grid2Options& o) {
+    return density_resolution(box.extent(), o.top_density * double(prims), uint32_t(kMaxGridCells), kMaxGridCells);
+}
+
+/// The resolution of the sub-grid of the top cell `cell` holding `count` primitives.
+inline GridResolution grid2_sub_resolution(const Aabb& cell, uint32_t count, const Grid2Options& o) {
+    return density_resolution(cell.extent(), o.leaf_density * count, kMaxSubGridRes, kMaxGridCells);
+}
+
 template <PrimitiveSet P>
 Grid2Data build_grid2(const P& prims, const Grid2Options& o) {
     Grid2Data g;
     g.box = grid_scene_bounds(prims, "grid2");
     if (prims.size() == 0) return g;
-    const double n = double(prims.size());
-    g.frame = GridFrame::make(g.box, density_resolution(g.box.extent(), o.top_density * n, uint32_t(kMaxGridCells),
-                                                        kMaxGridCells));
+    g.frame = GridFrame::make(g.box, grid2_top_resolution(g.box, prims.size(), o));
 
     // Top level: which primitives each top cell holds.
     std::vector<uint32_t> ids(prims.size());
@@ -81,9 +89,7 @@ Grid2Data build_grid2(const P& prims, const Grid2Options& o) {
                 const uint32_t c = g.frame.index(cell[0], cell[1], cell[2]);
                 const uint32_t count = top.count(c);
                 if (count == 0) continue;
-                const Aabb box = g.frame.cell_box(cell[0], cell[1], cell[2]);
-                const GridResolution r =
-                    density_resolution(box.extent(), o.leaf_density * count, kMaxSubGridRes, kMaxGridCells);
+                const GridResolution r = grid2_sub_resolution(g.frame.cell_box(cell[0], cell[1], cell[2]), count, o);
                 leaf_cells += r.cells();
                 if (leaf_cells > kMaxGridCells)
                     throw Error("grid2: the sub-grids need more than " + std::to_string(kMaxGridCells) +

@@ -37,16 +37,18 @@ Aabb grid_scene_bounds(const P& prims, const char* who) {
     return box;
 }
 
+/// The resolution of a grid over `prims` primitives whose bounds are `box`.
+inline GridResolution grid_resolution(const Aabb& box, size_t prims, const GridOptions& o) {
+    return o.res ? longest_axis_resolution(box.extent(), o.res, "grid: res=" + std::to_string(o.res))
+                 : density_resolution(box.extent(), o.lambda * double(prims), uint32_t(kMaxGridCells), kMaxGridCells);
+}
+
 template <PrimitiveSet P>
 GridData build_grid(const P& prims, const GridOptions& o) {
     GridData g;
     g.box = grid_scene_bounds(prims, "grid");
     if (prims.size() == 0) return g;
-    const GridResolution res =
-        o.res ? longest_axis_resolution(g.box.extent(), o.res, "grid: res=" + std::to_string(o.res))
-              : density_resolution(g.box.extent(), o.lambda * double(prims.size()), uint32_t(kMaxGridCells),
-                                   kMaxGridCells);
-    g.frame = GridFrame::make(g.box, res);
+    g.frame = GridFrame::make(g.box, grid_resolution(g.box, prims.size(), o));
     std::vector<uint32_t> ids(prims.size());
     std::iota(ids.begin(), ids.end(), 0u);
     AssignScratch scratch;

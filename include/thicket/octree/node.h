@@ -1,6 +1,7 @@
 #pragma once
 /// The octree's 8-byte node, its implicit cell boxes, and the flat arrays an octree is made of.
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -38,6 +39,8 @@ inline Aabb octree_child_box(const Aabb& box, int c) {
 
 /// Deepest tree the builder makes (the max-depth option's upper bound).
 inline constexpr uint32_t kOctreeMaxDepth = 16;
+/// Most nodes a tree may have (node indices are 32-bit, kInner reserved).
+inline constexpr size_t kOctreeMaxNodes = size_t(1) << 31;
 
 /// A built octree: relocatable (indices only).
 struct OctreeData {

@@ -26,6 +26,20 @@ public:
         data_ = build_octree(bounds, clip, options);
     }
 
+    /// Adopts a saved (e.g. loaded) tree after proving it lists every primitive wherever the
+    /// builder would (validate_octree, validate_octree_coverage).
+    Octree(Prims prims, OctreeData data, OctreeTraversal traversal)
+        : prims_(std::move(prims)), data_(std::move(data)), traversal_(traversal) {
+        validate_octree(data_, prims_.size());
+        std::vector<Aabb> bounds(prims_.size());
+        for (uint32_t i = 0; i < prims_.size(); ++i) {
+            bounds[i] = prims_.bounds(i);
+            bounds_.grow(bounds[i]);
+        }
+        const OctreeClip clip = [this](uint32_t i, const Aabb& box) { return clipped_bounds(prims_, i, box); };
+        validate_octree_coverage(data_, bounds, clip);
+    }
+
     Aabb bounds() const override { return bounds_; }
 
     template <class C>
@@ -49,6 +63,8 @@ public:
         s.extra.emplace_back("largest leaf", std::to_string(f.max_leaf_size));
         return s;
     }
+
+    void save(std::ostream& out) const override { write_octree(out, data_); }
 
     const OctreeData& data() const { return data_; }
     const Prims& primitives() const { return prims_; }
