@@ -4,7 +4,6 @@
 #include "thicket/bvh8/bvh8.h"
 
 #include <string>
-#include <string_view>
 #include <utility>
 
 #include "thicket/core/error.h"
@@ -13,9 +12,6 @@ namespace thicket {
 
 namespace {
 
-constexpr Choice<std::string_view> kIsas[] = {
-    {"auto", "auto"}, {"scalar", "scalar"}, {"sse", "sse"}, {"avx2", "avx2"}, {"avx512", "avx512"},
-};
 constexpr Choice<bool> kOnOff[] = {{"on", true}, {"off", false}};
 
 enum class Quality { Custom, Low, Medium, High };
@@ -57,8 +53,22 @@ Bvh8Options bvh8_options(AccelSpec spec) {
     o.binary.optimize_passes = int(spec.get_int("passes"));
     read_sbvh_options(spec, o.binary);
     o.merge_below = uint32_t(spec.get_int("leaf-merge"));
-    o.isa = bvh8::resolve_isa(std::string(spec.choice("isa", kIsas)));
+    o.isa = bvh8::resolve_isa(spec.get("isa"));
     o.packets = spec.choice("packets", kOnOff);
+    return o;
+}
+
+/// The `isa` option: kAutoIsa, then the levels of the one table bvh8::kIsaLevels (which
+/// resolve_isa() reads the value with).
+OptionInfo isa_option() {
+    std::string levels;
+    for (const Choice<bvh8::Isa>& c : bvh8::kIsaLevels) levels += (levels.empty() ? "" : "|") + std::string(c.name);
+    OptionInfo o = choice_option("isa",
+                                 std::string("traversal kernels: ") + bvh8::kAutoIsa +
+                                     " (the CPU's best, capped by THICKET_ISA=" + levels + ") or one level",
+                                 bvh8::Isa::Scalar, bvh8::kIsaLevels);
+    o.choices.insert(o.choices.begin(), bvh8::kAutoIsa);
+    o.default_value = bvh8::kAutoIsa;
     return o;
 }
 
@@ -84,10 +94,7 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
          "binary subtrees of at most this many primitives become one leaf: 4 fills one block; 8 trades "
          "speed for memory (fewer, fuller nodes)",
          "4", {}, 0, 64},
-        choice_option("isa",
-                      "traversal kernels: auto (the CPU's best, capped by THICKET_ISA=scalar|sse|avx2|avx512) or "
-                      "one level",
-                      std::string_view("auto"), kIsas),
+        isa_option(),
         choice_option("packets",
                       "batches marked coherent (camera rays in tiles: `thicket render`, `trace --coherent`, the "
                       "bench's primary set) are traced 16 rays at a time through the packet kernels; same answers",

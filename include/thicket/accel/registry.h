@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "thicket/accel/accel.h"
+#include "thicket/accel/choice.h"
 #include "thicket/scene/scene.h"
 
 namespace thicket {
@@ -37,15 +38,6 @@ inline OptionInfo real_option(std::string key, std::string help, std::string fal
     o.real_max = hi;
     return o;
 }
-
-/// One allowed value of a choice option: its spelling in a spec and the value it stands for.
-/// A structure declares each choice option as one array of these, e.g.
-///   constexpr Choice<BvhBuilder> kBuilders[] = {{"midpoint", BvhBuilder::Midpoint}, ...};
-template <class T>
-struct Choice {
-    const char* name;
-    T value;
-};
 
 /// The OptionInfo of the option `key` whose allowed values are the names of `table`, listed in
 /// the table's order; the default is the name of `fallback`, which must be in the table.
