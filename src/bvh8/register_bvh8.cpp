@@ -120,6 +120,7 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
             return std::make_unique<Bvh8<decltype(prims)>>(std::move(prims), options);
         });
     };
+    info.kernels = [](const AccelSpec& spec) { return std::string(bvh8::isa_name(bvh8::resolve_isa(spec.get("isa")))); };
     info.load = [](std::istream& in, const Scene& scene, const AccelSpec& spec) {
         bvh8::SavedTree saved = bvh8::read_tree(in, scene.primitive_count());
         const Bvh8Options options = bvh8_options(spec);

@@ -98,7 +98,7 @@ Scene load_scene_verbose(const std::string& path) {
     return scene;
 }
 
-std::vector<std::string> expand_accel_specs(const std::vector<std::string>& asked) {
+std::vector<AskedSpec> parse_accel_specs(const std::vector<std::string>& asked) {
     std::vector<std::string> expanded;
     for (const std::string& s : asked) {
         if (s == "all") {
@@ -108,12 +108,19 @@ std::vector<std::string> expand_accel_specs(const std::vector<std::string>& aske
             expanded.push_back(s);
         }
     }
-    std::vector<std::string> specs;
+    std::vector<AskedSpec> specs;
     for (const std::string& s : expanded) {
-        parse_accel_spec(s);
-        if (std::find(specs.begin(), specs.end(), s) == specs.end()) specs.push_back(s);
+        AccelSpec parsed = parse_accel_spec(s);
+        if (std::none_of(specs.begin(), specs.end(), [&](const AskedSpec& a) { return a.text == s; }))
+            specs.push_back({s, std::move(parsed)});
     }
     return specs;
+}
+
+std::vector<std::string> expand_accel_specs(const std::vector<std::string>& asked) {
+    std::vector<std::string> texts;
+    for (AskedSpec& a : parse_accel_specs(asked)) texts.push_back(std::move(a.text));
+    return texts;
 }
 
 std::string load_average() {

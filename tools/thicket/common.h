@@ -88,9 +88,16 @@ inline constexpr int kMaxRounds = 100;
 /// The help text of --force for a command whose output is FILE.
 inline constexpr const char* kForceHelp = "overwrite the output file if it exists (special files such as /dev/null, "
                                           "a FIFO or - for stdout are written without it)";
+/// One spec as it was asked for (what tables and tracers are named by) and parsed.
+struct AskedSpec {
+    std::string text;
+    AccelSpec spec;
+};
 /// `asked` with every `all` replaced by every registered variant (all_accel_variants()),
 /// duplicates dropped (the first kept), each spec parsed so that a typo throws Error before any
 /// slow work.
+std::vector<AskedSpec> parse_accel_specs(const std::vector<std::string>& asked);
+/// The texts of parse_accel_specs(asked).
 std::vector<std::string> expand_accel_specs(const std::vector<std::string>& asked);
 /// The 1-minute load average (Linux), or "unknown": other work on the machine is the first
 /// thing to rule out when timings look noisy.

@@ -112,6 +112,10 @@ struct AccelInfo {
     bool threaded_build = false;
     /// Restores a saved structure (the header is already read and checked); null if unsupported.
     std::function<std::unique_ptr<Accel>(std::istream&, const Scene&, const AccelSpec&)> load;
+    /// For a structure whose kernels are chosen at run time: the kernels `spec` runs on this
+    /// machine (bvh8: its ISA level, e.g. "avx2"), what the bench prints before it measures;
+    /// null for the others.
+    std::function<std::string(const AccelSpec&)> kernels;
 };
 
 /// Every registered structure, in registration order.
