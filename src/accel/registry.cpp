@@ -2,6 +2,7 @@
 // no static-initialisation trick can be dropped by the linker.
 #include "thicket/accel/registry.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -82,7 +83,94 @@ bool parse_real(const std::string& s, double& out) {
     return pos == s.size() && std::isfinite(out);
 }
 
+const OptionInfo* find_option(const AccelInfo& info, const std::string& key) {
+    for (const OptionInfo& o : info.options)
+        if (o.key == key) return &o;
+    return nullptr;
+}
+
+/// Sets the keys the chosen value of each preset option stands for, then puts the option back
+/// at its default (which sets nothing), so that the spec names what is built.
+void expand_presets(const AccelInfo& info, AccelSpec& spec) {
+    for (const OptionInfo& preset : info.options) {
+        if (preset.presets.empty()) continue;
+        const std::string chosen = spec.get(preset.key);
+        const size_t index = size_t(std::find(preset.choices.begin(), preset.choices.end(), chosen) -
+                                    preset.choices.begin());
+        for (const PresetSetting& set : preset.presets.at(index)) {
+            const OptionInfo* target = find_option(info, set.key);
+            if (!target)
+                throw Error(info.name + ": internal error: " + preset.key + "=" + chosen + " sets option '" + set.key +
+                            "', which is not registered");
+            if (spec.get(set.key) != target->default_value)
+                throw Error(info.name + ": " + preset.key + "=" + chosen + " sets " + set.key + " itself; drop " +
+                            set.key + "=" + spec.get(set.key) + " or use " + preset.key + "=" + preset.default_value);
+            spec.options[set.key] = set.value;
+        }
+        spec.options[preset.key] = preset.default_value;
+    }
+}
+
+/// Reads the `key=value,...` part of `text` (which has one) into `spec`, checking each key and
+/// value against `info`.
+void read_options(const AccelInfo& info, std::string_view text, AccelSpec& spec) {
+    std::vector<std::string> seen;
+    std::string_view rest = text.substr(text.find(':') + 1);
+    while (true) {
+        const size_t comma = rest.find(',');
+        const std::string item = trim(rest.substr(0, comma));
+        const size_t eq = item.find('=');
+        if (item.empty() || eq == std::string::npos)
+            throw Error("malformed spec '" + std::string(text) + "': expected key=value, got '" + item +
+                        "' (form: NAME[:key=value,...])");
+        const std::string key = trim(item.substr(0, eq)), value = trim(item.substr(eq + 1));
+        const OptionInfo* opt = find_option(info, key);
+        if (!opt) {
+            std::vector<std::string> keys;
+            for (const auto& o : info.options) keys.push_back(o.key);
+            throw Error(spec.name + ": unknown option '" + key + "'; allowed options: " + join(keys));
+        }
+        for (const auto& s : seen)
+            if (s == key) throw Error(spec.name + ": option '" + key + "' given twice in '" + std::string(text) + "'");
+        seen.push_back(key);
+        if (!opt->choices.empty()) {
+            bool ok = false;
+            for (const auto& c : opt->choices) ok = ok || c == value;
+            if (!ok)
+                throw Error(spec.name + ": " + key + "=" + value + " is not allowed; choose one of " +
+                            join(opt->choices));
+        } else if (opt->real) {
+            double v = 0;
+            if (!parse_real(value, v) || v < opt->real_min || v > opt->real_max) {
+                std::ostringstream range;
+                range << "[" << opt->real_min << ", " << opt->real_max << "]";
+                throw Error(spec.name + ": " + key + "=" + value + " must be a number in " + range.str());
+            }
+        } else {
+            long v = 0;
+            if (!parse_long(value, v) || v < opt->min || v > opt->max)
+                throw Error(spec.name + ": " + key + "=" + value + " must be an integer in [" +
+                            std::to_string(opt->min) + ", " + std::to_string(opt->max) + "]");
+        }
+        spec.options[key] = value;
+        if (comma == std::string_view::npos) break;
+        rest = rest.substr(comma + 1);
+    }
+}
+
 }  // namespace
+
+OptionInfo preset_option(std::string key, std::string help, std::vector<Preset> presets) {
+    OptionInfo o{std::move(key), std::move(help), {}, {}, 0, 0};
+    for (Preset& p : presets) {
+        o.choices.push_back(std::move(p.name));
+        o.presets.push_back(std::move(p.sets));
+    }
+    if (o.choices.empty() || !o.presets.front().empty())
+        throw Error("preset option '" + o.key + "': the first value is the default and must set nothing");
+    o.default_value = o.choices.front();
+    return o;
+}
 
 const std::vector<AccelInfo>& accel_registry() {
     static const std::vector<AccelInfo> registry = make_registry();
@@ -139,52 +227,8 @@ AccelSpec parse_accel_spec(std::string_view text) {
                     "'; known structures: " + join(names) + " (see `thicket accels`)");
     }
     for (const OptionInfo& o : info->options) spec.options[o.key] = o.default_value;
-    if (colon == std::string_view::npos) return spec;
-
-    std::vector<std::string> seen;
-    std::string_view rest = text.substr(colon + 1);
-    while (true) {
-        const size_t comma = rest.find(',');
-        const std::string item = trim(rest.substr(0, comma));
-        const size_t eq = item.find('=');
-        if (item.empty() || eq == std::string::npos)
-            throw Error("malformed spec '" + std::string(text) + "': expected key=value, got '" + item +
-                        "' (form: NAME[:key=value,...])");
-        const std::string key = trim(item.substr(0, eq)), value = trim(item.substr(eq + 1));
-        const OptionInfo* opt = nullptr;
-        for (const OptionInfo& o : info->options)
-            if (o.key == key) opt = &o;
-        if (!opt) {
-            std::vector<std::string> keys;
-            for (const auto& o : info->options) keys.push_back(o.key);
-            throw Error(spec.name + ": unknown option '" + key + "'; allowed options: " + join(keys));
-        }
-        for (const auto& s : seen)
-            if (s == key) throw Error(spec.name + ": option '" + key + "' given twice in '" + std::string(text) + "'");
-        seen.push_back(key);
-        if (!opt->choices.empty()) {
-            bool ok = false;
-            for (const auto& c : opt->choices) ok = ok || c == value;
-            if (!ok)
-                throw Error(spec.name + ": " + key + "=" + value + " is not allowed; choose one of " +
-                            join(opt->choices));
-        } else if (opt->real) {
-            double v = 0;
-            if (!parse_real(value, v) || v < opt->real_min || v > opt->real_max) {
-                std::ostringstream range;
-                range << "[" << opt->real_min << ", " << opt->real_max << "]";
-                throw Error(spec.name + ": " + key + "=" + value + " must be a number in " + range.str());
-            }
-        } else {
-            long v = 0;
-            if (!parse_long(value, v) || v < opt->min || v > opt->max)
-                throw Error(spec.name + ": " + key + "=" + value + " must be an integer in [" +
-                            std::to_string(opt->min) + ", " + std::to_string(opt->max) + "]");
-        }
-        spec.options[key] = value;
-        if (comma == std::string_view::npos) break;
-        rest = rest.substr(comma + 1);
-    }
+    if (colon != std::string_view::npos) read_options(*info, text, spec);
+    expand_presets(*info, spec);
     return spec;
 }
 
@@ -226,6 +270,13 @@ std::string describe_accels() {
             else
                 out << join(o.choices, "|");
             out << "  (default " << o.default_value << ")\n      " << o.help << "\n";
+            for (size_t i = 0; i < o.presets.size(); ++i) {
+                if (o.presets[i].empty()) continue;
+                out << "      " << o.key << "=" << o.choices[i] << " sets ";
+                for (size_t k = 0; k < o.presets[i].size(); ++k)
+                    out << (k ? "," : "") << o.presets[i][k].key << "=" << o.presets[i][k].value;
+                out << "\n";
+            }
         }
         out << "  variants tested: " << info.variants.size() << "\n";
     }

@@ -6,44 +6,16 @@
 #include <string>
 #include <utility>
 
-#include "thicket/core/error.h"
-
 namespace thicket {
 
 namespace {
 
 constexpr Choice<bool> kOnOff[] = {{"on", true}, {"off", false}};
 
-enum class Quality { Custom, Low, Medium, High };
-constexpr Choice<Quality> kQualities[] = {
-    {"custom", Quality::Custom}, {"low", Quality::Low}, {"medium", Quality::Medium}, {"high", Quality::High}};
-
-// The defaults of the keys a preset sets; register_bvh8 lists these same strings as the defaults.
-constexpr const char* kDefaultBuilder = "binned-sah";
+// The default of `bins`, which the quality presets set too.
 constexpr const char* kDefaultBins = "16";
 
-/// The builder settings of a quality preset, as spec values. A preset sets builder and bins; a
-/// spec that also gives either a value other than its default asks for two things at once.
-void apply_quality(AccelSpec& spec) {
-    const Quality q = spec.choice("quality", kQualities);
-    if (q == Quality::Custom) return;
-    const std::string builder = q == Quality::Low ? "lbvh" : q == Quality::Medium ? "binned-sah" : "sbvh";
-    const std::string bins = kDefaultBins;
-    const std::string optimize = q == Quality::High ? "reinsertion" : "none";
-    for (const auto& [key, default_value] : {std::pair<std::string, std::string>{"builder", kDefaultBuilder},
-                                             std::pair<std::string, std::string>{"bins", kDefaultBins},
-                                             std::pair<std::string, std::string>{"optimize", "none"}}) {
-        if (spec.get(key) != default_value)
-            throw Error("bvh8: quality=" + spec.get("quality") + " sets " + key + " itself; drop " + key + "=" +
-                        spec.get(key) + " or use quality=custom");
-    }
-    spec.options["builder"] = builder;
-    spec.options["bins"] = bins;
-    spec.options["optimize"] = optimize;
-}
-
-Bvh8Options bvh8_options(AccelSpec spec) {
-    apply_quality(spec);
+Bvh8Options bvh8_options(const AccelSpec& spec) {
     Bvh8Options o;
     o.binary.builder = spec.choice("builder", kBvhBuilders);
     o.binary.bins = int(spec.get_int("bins"));
@@ -83,12 +55,15 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
         choice_option("builder", "the binary BVH builder whose tree is collapsed to 8 wide", BvhBuilder::BinnedSah,
                       kBvhBuilders),
         {"bins", "bins per axis for binned-sah", kDefaultBins, {}, 2, 256},
-        choice_option("quality",
-                      "builder preset: low = builder=lbvh (fastest build), medium = builder=binned-sah,bins=16 "
-                      "(parallel binned SAH), high = builder=sbvh,optimize=reinsertion (spatial splits, then "
-                      "reinsertion; alpha and budget apply); custom = the builder, bins and optimize keys as given "
-                      "(a preset with another value of one of them is an error)",
-                      Quality::Custom, kQualities),
+        preset_option("quality",
+                      "builder preset: low (fastest build), medium (parallel binned SAH), high (spatial splits, "
+                      "then reinsertion; alpha and budget apply); custom = the builder, bins and optimize keys as "
+                      "given. A preset sets the keys listed below (another value of one of them is an error); the "
+                      "spec records them, with quality=custom",
+                      {{"custom", {}},
+                       {"low", {{"builder", "lbvh"}, {"bins", kDefaultBins}, {"optimize", "none"}}},
+                       {"medium", {{"builder", "binned-sah"}, {"bins", kDefaultBins}, {"optimize", "none"}}},
+                       {"high", {{"builder", "sbvh"}, {"bins", kDefaultBins}, {"optimize", "reinsertion"}}}}),
         {"max-leaf", "largest binary leaf (one 4-triangle block per 4)", "4", {}, 1, 255},
         {"leaf-merge",
          "binary subtrees of at most this many primitives become one leaf: 4 fills one block; 8 trades "

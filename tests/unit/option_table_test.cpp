@@ -50,18 +50,18 @@ TEST_P(OptionTable, UnknownChoiceIsAnErrorListingTheAllowedOnes) {
         const std::string parsed = error_of([&] { parse_accel_spec(info.name + ":" + o.key + "=bogus"); });
         EXPECT_NE(parsed.find(expected), std::string::npos) << parsed;
 
+        // Every listed value is one the parser and the builder accept.
+        for (const std::string& c : o.choices)
+            EXPECT_EQ(error_of([&] { build_accel(info.name + ":" + o.key + "=" + c, scene); }), "") << c;
+
+        // A preset option never reaches the builder: the parser expands it.
+        if (!o.presets.empty()) continue;
         // Past the parser (a spec built by hand): the builder's table refuses it too, instead of
         // taking some default.
         AccelSpec spec = parse_accel_spec(info.name);
         spec.options[o.key] = "bogus";
         const std::string built = error_of([&] { build_accel(spec, scene); });
         EXPECT_NE(built.find(expected), std::string::npos) << built;
-
-        // Every listed value is one the builder accepts.
-        for (const std::string& c : o.choices) {
-            spec.options[o.key] = c;
-            EXPECT_EQ(error_of([&] { build_accel(spec, scene); }), "") << c;
-        }
     }
     EXPECT_GE(choice_options, 1u) << "every structure takes at least isect";
 }

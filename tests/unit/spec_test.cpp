@@ -50,6 +50,33 @@ TEST(Spec, ErrorsListWhatIsAllowed) {
     EXPECT_NE(error_of("bvh:").find("key=value"), std::string::npos);
 }
 
+TEST(Spec, PresetsAreExpandedAndTheSpecRecordsWhatIsBuilt) {
+    const AccelSpec high = parse_accel_spec("bvh8:quality=high,max-leaf=2");
+    EXPECT_EQ(high.get("builder"), "sbvh");
+    EXPECT_EQ(high.get("optimize"), "reinsertion");
+    EXPECT_EQ(high.get("max-leaf"), "2") << "keys the preset does not set combine with it";
+    EXPECT_EQ(high.get("quality"), "custom") << "the preset stands for the keys it set";
+    EXPECT_EQ(parse_accel_spec(high.str()).str(), high.str()) << "the recorded spec parses to itself";
+    // A key the preset sets, given its default, is no conflict; any other value is.
+    EXPECT_EQ(parse_accel_spec("bvh8:quality=low,builder=binned-sah").get("builder"), "lbvh");
+    EXPECT_NE(error_of("bvh8:builder=midpoint,quality=high")
+                  .find("bvh8: quality=high sets builder itself; drop builder=midpoint or use quality=custom"),
+              std::string::npos)
+        << error_of("bvh8:builder=midpoint,quality=high");
+    EXPECT_NE(error_of("bvh8:quality=low,bins=32").find("sets bins itself; drop bins=32"), std::string::npos);
+    EXPECT_NE(describe_accels().find("quality=high sets builder=sbvh,bins=16,optimize=reinsertion"), std::string::npos);
+}
+
+TEST(Spec, AStructureBuiltFromAPresetSavesAndLoadsWithItsRecordedSpec) {
+    Scene scene;
+    scene.name = "two-triangles";
+    scene.mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    scene.mesh.indices = {0, 1, 2, 0, 1, 3};
+    const auto built = build_accel("bvh8:quality=high", scene);
+    EXPECT_EQ(built->spec(), parse_accel_spec("bvh8:builder=sbvh,optimize=reinsertion").str());
+    EXPECT_EQ(load_accel_bytes(saved_accel_bytes(*built, scene), scene, "saved")->spec(), built->spec());
+}
+
 TEST(Spec, EveryVariantParsesAndIsListed) {
     const auto variants = all_accel_variants();
     EXPECT_GE(variants.size(), 17u);

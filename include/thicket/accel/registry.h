@@ -16,10 +16,18 @@
 
 namespace thicket {
 
+/// One key a preset sets, and the value (as a spec writes it) it sets the key to.
+struct PresetSetting {
+    std::string key;
+    std::string value;
+};
+
 /// One named option of a structure: either one of `choices`, an integer in [min, max], or (when
 /// `real`, made with real_option()) a real number in [real_min, real_max].
 /// Choice options are best made with choice_option() from the same table the builder reads the
 /// value with (AccelSpec::choice), so the listing, the parser and the builder cannot disagree.
+/// A preset option (preset_option()) is a choice option that the parser expands: no builder
+/// reads it.
 struct OptionInfo {
     std::string key;
     std::string help;
@@ -28,6 +36,9 @@ struct OptionInfo {
     long min = 0, max = 0;
     bool real = false;                 ///< a real number (AccelSpec::get_real), not an integer
     double real_min = 0.0, real_max = 0.0;
+    /// A preset option: per choice, in the same order, the keys that value sets (the default
+    /// sets none). Empty for every other option.
+    std::vector<std::vector<PresetSetting>> presets = {};
 };
 
 /// The OptionInfo of a real-valued option in [lo, hi] (written as C's strtod reads it: 0.3, 1e-5).
@@ -50,6 +61,19 @@ OptionInfo choice_option(std::string key, std::string help, T fallback, const Ch
     }
     return o;
 }
+
+/// One value of a preset option: its name and the keys it sets.
+struct Preset {
+    std::string name;
+    std::vector<PresetSetting> sets;
+};
+
+/// The OptionInfo of the preset option `key`, whose values are the names of `presets`; the first
+/// is the default and must set nothing. parse_accel_spec() expands the chosen value: it sets
+/// each of its keys, refuses a spec that also gives one of them a value other than that key's
+/// default, and leaves the option at its default, so that the parsed spec (and the spec a
+/// structure records) names what is built.
+OptionInfo preset_option(std::string key, std::string help, std::vector<Preset> presets);
 
 /// A parsed, validated spec with every option present (defaults filled in).
 struct AccelSpec {
@@ -122,8 +146,8 @@ struct AccelInfo {
 const std::vector<AccelInfo>& accel_registry();
 const AccelInfo* find_accel(std::string_view name);
 
-/// Parses and validates a spec; throws Error naming the bad name, key or value and listing
-/// what is allowed.
+/// Parses and validates a spec and expands its preset options (preset_option()); throws Error
+/// naming the bad name, key or value and listing what is allowed.
 AccelSpec parse_accel_spec(std::string_view spec);
 
 /// Every variant spec of every registered structure (what `--accel all` means).
