@@ -24,6 +24,9 @@ TEST(Spec, DefaultsAndCanonicalForm) {
     const AccelSpec t = parse_accel_spec("bvh:traversal=stack, bins=16");
     EXPECT_EQ(t.get("traversal"), "stack");
     EXPECT_EQ(t.get_int("bins"), 16);
+    EXPECT_EQ(t.info, find_accel("bvh")) << "the spec keeps the structure it names";
+    EXPECT_EQ(t.options.at("traversal").choice, 1u) << "stack: the second traversal";
+    EXPECT_DOUBLE_EQ(t.get_real("budget"), 0.3);
     EXPECT_EQ(parse_accel_spec(t.str()).str(), t.str()) << "canonical form parses to itself";
     EXPECT_EQ(t.str(),
               "bvh:alpha=1e-3,bins=16,budget=0.3,builder=binned-sah,isect=moller,max-leaf=8,optimize=none,passes=3,"

@@ -99,8 +99,8 @@ int run_bench(const BenchArgs& args) {
     std::printf("embree  %s\n", embree_note.c_str());
     // Structures whose kernels are chosen at run time (bvh8's ISA): say which ones this run measures.
     for (const AskedSpec& s : specs)
-        if (const AccelInfo* info = find_accel(s.spec.name); info->kernels)
-            std::printf("isa     %s runs the %s kernels\n", s.text.c_str(), info->kernels(s.spec).c_str());
+        if (s.spec.info->kernels)
+            std::printf("isa     %s runs the %s kernels\n", s.text.c_str(), s.spec.info->kernels(s.spec).c_str());
     std::printf("bench   %zu tracers x %zu ray sets, %dx%d, median of %d timed passes after a warm-up%s, on %s\n",
                 tracers.size(), set_names.size(), ray_options.width, ray_options.height, args.reps,
                 args.rounds > 1 ? (", " + std::to_string(args.rounds) + " rounds").c_str() : "",

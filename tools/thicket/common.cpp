@@ -142,7 +142,7 @@ std::unique_ptr<Accel> make_accel_verbose(const AccelChoice& choice, const std::
         accel = load_accel(choice.load, scene);
         how = "loaded from " + choice.load + " in " + format_duration(ms_since(start) / 1000);
     } else {
-        accel = spec ? build_accel(*spec, scene, threads) : build_accel(choice.spec, scene, threads);
+        accel = build_accel(spec.value(), scene, threads);
     }
     const AccelStats st = accel->stats();
     if (how.empty()) how = "built in " + format_duration(st.build_ms / 1000);

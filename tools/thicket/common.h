@@ -62,7 +62,8 @@ struct VertexCounts {
 };
 VertexCounts count_bad_vertices(const Scene& scene);
 /// Builds (or loads with --load) the structure on up to `threads` threads (0: every core) and
-/// prints one line about it. `spec`: validate_accel_choice()'s result for `choice`.
+/// prints one line about it. `spec`: validate_accel_choice()'s result for `choice` (what is
+/// built: the spec is not parsed again).
 std::unique_ptr<Accel> make_accel_verbose(const AccelChoice& choice, const std::optional<AccelSpec>& spec,
                                           const Scene& scene, unsigned threads);
 

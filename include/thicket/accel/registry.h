@@ -75,34 +75,55 @@ struct Preset {
 /// structure records) names what is built.
 OptionInfo preset_option(std::string key, std::string help, std::vector<Preset> presets);
 
-/// A parsed, validated spec with every option present (defaults filled in).
+struct AccelInfo;
+
+/// One option's value in a parsed spec: as written, and as the typed value of the option's
+/// kind, which is what builders read: the index of a choice in OptionInfo::choices (and in the
+/// table it was made from), an integer, or a real number.
+struct OptionValue {
+    std::string text;
+    size_t choice = 0;
+    long integer = 0;
+    double real = 0.0;
+};
+
+/// Parses `text` as a value of option `o` of the structure named `accel`. Throws Error naming
+/// the structure, key and value, and the allowed values or range.
+OptionValue parse_option_value(const std::string& accel, const OptionInfo& o, const std::string& text);
+
+/// A parsed, validated spec with every option present (defaults filled in), each value parsed
+/// once (parse_option_value()).
 struct AccelSpec {
     std::string name;
-    std::map<std::string, std::string> options;
+    /// The registered structure (parse_accel_spec() sets it): build_accel() builds with it.
+    const AccelInfo* info = nullptr;
+    std::map<std::string, OptionValue> options;
     /// Threads the build may use (0: every core). Not part of the spec string: a structure builds
     /// the same result on any number of threads.
     unsigned threads = 0;
 
+    /// The value of option `key` as written.
     const std::string& get(const std::string& key) const;
+    /// The value of an integer option; the parser has checked its range.
     long get_int(const std::string& key) const;
     /// The value of a real option (real_option()); the parser has checked its range.
     double get_real(const std::string& key) const;
-    /// The value `table` gives option `key`. Throws Error listing the table's names when the
-    /// option holds anything else: no value silently becomes a default.
+    /// The value `table` gives option `key`: the table's entry at the option's choice index, the
+    /// table being the one the option was made from (choice_option()). Throws Error listing the
+    /// table's names when the option holds anything else: no value silently becomes a default.
     template <class T, size_t N>
     T choice(const std::string& key, const Choice<T> (&table)[N]) const {
-        const std::string& value = get(key);
+        const OptionValue& v = value(key);
+        if (v.choice < N && v.text == table[v.choice].name) return table[v.choice].value;
         std::vector<std::string> names;
-        for (const Choice<T>& c : table) {
-            if (value == c.name) return c.value;
-            names.push_back(c.name);
-        }
+        for (const Choice<T>& c : table) names.push_back(c.name);
         refuse_choice(key, names);
     }
     /// Canonical form: name, then every option in key order.
     std::string str() const;
 
 private:
+    const OptionValue& value(const std::string& key) const;
     /// Throws Error("NAME: key=value is not allowed; choose one of a, b, ...").
     [[noreturn]] void refuse_choice(const std::string& key, const std::vector<std::string>& allowed) const;
 };
@@ -156,8 +177,8 @@ std::vector<std::string> all_accel_variants();
 /// Parses `spec` and builds the structure over `scene` on up to `threads` threads (0: every
 /// core), filling stats().build_ms. The result does not depend on `threads`.
 std::unique_ptr<Accel> build_accel(std::string_view spec, const Scene& scene, unsigned threads = 0);
-/// Builds from a spec parse_accel_spec() already parsed (a caller that validated the spec up
-/// front need not parse it again).
+/// Builds from a spec parse_accel_spec() already parsed, with the structure it names (a caller
+/// that validated the spec up front need not parse it again).
 std::unique_ptr<Accel> build_accel(const AccelSpec& spec, const Scene& scene, unsigned threads = 0);
 
 /// Saves/loads a structure with a versioned header bound to the scene's fingerprint; the checksum
