@@ -90,18 +90,12 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
 
     info.threaded_build = true;
     info.build = [](const Scene& scene, const AccelSpec& spec) {
-        const Bvh8Options options = bvh8_options(spec);
-        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
-            return std::make_unique<Bvh8<decltype(prims)>>(std::move(prims), options);
-        });
+        return make_structure<Bvh8>(scene, spec, bvh8_options(spec));
     };
     info.kernels = [](const AccelSpec& spec) { return std::string(bvh8::isa_name(bvh8::resolve_isa(spec.get("isa")))); };
     info.load = [](std::istream& in, const Scene& scene, const AccelSpec& spec) {
         bvh8::SavedTree saved = bvh8::read_tree(in, scene.primitive_count());
-        const Bvh8Options options = bvh8_options(spec);
-        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
-            return std::make_unique<Bvh8<decltype(prims)>>(std::move(prims), options, std::move(saved));
-        });
+        return make_structure<Bvh8>(scene, spec, bvh8_options(spec), std::move(saved));
     };
     registry.push_back(std::move(info));
 }
