@@ -3,12 +3,15 @@
 /// `isect` option. Structures are class templates over a PrimitiveSet; this is where a scene's
 /// content picks the instantiation: triangle-only scenes get the Triangles fast path, scenes with
 /// shapes the mixed set (triangles and shapes behind one id space). Private to the library
-/// (src/ is its private include directory): only the register_*.cpp files use it.
+/// (src/ is its private include directory): only the register_*.cpp files use it, mostly through
+/// make_structure() and set_build_and_load().
+#include <istream>
 #include <memory>
 #include <utility>
 
 #include "thicket/accel/registry.h"
 #include "thicket/prims/mixed.h"
+#include "thicket/prims/primitive_set.h"
 #include "thicket/prims/triangles.h"
 
 namespace thicket {
@@ -30,6 +33,28 @@ std::unique_ptr<Accel> with_primitives(const Scene& scene, const AccelSpec& spec
     }
     if (watertight) return make(Triangles<TriangleTest::Watertight>(scene.mesh));
     return make(Triangles<TriangleTest::Moller>(scene.mesh));
+}
+
+/// Makes Structure<P>(prims, args...) over the primitive set P that `spec` asks for on `scene`
+/// (with_primitives()); `args` are passed on once.
+template <template <PrimitiveSet> class Structure, class... Args>
+std::unique_ptr<Accel> make_structure(const Scene& scene, const AccelSpec& spec, Args&&... args) {
+    return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
+        return std::make_unique<Structure<decltype(prims)>>(std::move(prims), std::forward<Args>(args)...);
+    });
+}
+
+/// The registration of a structure built from its options and restored from its saved data:
+/// info.build makes Structure(prims, options(spec)), info.load Structure(prims, read(in, the
+/// scene's primitive count)).
+template <template <PrimitiveSet> class Structure, class Options, class Read>
+void set_build_and_load(AccelInfo& info, Options options, Read read) {
+    info.build = [options](const Scene& scene, const AccelSpec& spec) {
+        return make_structure<Structure>(scene, spec, options(spec));
+    };
+    info.load = [read](std::istream& in, const Scene& scene, const AccelSpec& spec) {
+        return make_structure<Structure>(scene, spec, read(in, scene.primitive_count()));
+    };
 }
 
 }  // namespace thicket

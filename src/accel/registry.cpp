@@ -2,6 +2,7 @@
 // no static-initialisation trick can be dropped by the linker.
 #include "thicket/accel/registry.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -82,7 +83,80 @@ bool parse_real(const std::string& s, double& out) {
     return pos == s.size() && std::isfinite(out);
 }
 
+const OptionInfo* find_option(const AccelInfo& info, const std::string& key) {
+    for (const OptionInfo& o : info.options)
+        if (o.key == key) return &o;
+    return nullptr;
+}
+
+/// Whether two values of option `o` are the same value (1e-3 and 0.001 are).
+bool same_value(const OptionInfo& o, const OptionValue& a, const OptionValue& b) {
+    if (!o.choices.empty()) return a.choice == b.choice;
+    return o.real ? a.real == b.real : a.integer == b.integer;
+}
+
+/// Sets the keys the chosen value of each preset option stands for, then puts the option back
+/// at its default (which sets nothing), so that the spec names what is built.
+void expand_presets(const AccelInfo& info, AccelSpec& spec) {
+    for (const OptionInfo& preset : info.options) {
+        if (preset.presets.empty()) continue;
+        const OptionValue chosen = spec.options.at(preset.key);
+        for (const PresetSetting& set : preset.presets.at(chosen.choice)) {
+            const OptionInfo* target = find_option(info, set.key);
+            if (!target)
+                throw Error(info.name + ": internal error: " + preset.key + "=" + chosen.text + " sets option '" +
+                            set.key + "', which is not registered");
+            const OptionValue& given = spec.options.at(set.key);
+            if (!same_value(*target, given, parse_option_value(info.name, *target, target->default_value)))
+                throw Error(info.name + ": " + preset.key + "=" + chosen.text + " sets " + set.key + " itself; drop " +
+                            set.key + "=" + given.text + " or use " + preset.key + "=" + preset.default_value);
+            spec.options[set.key] = parse_option_value(info.name, *target, set.value);
+        }
+        spec.options[preset.key] = parse_option_value(info.name, preset, preset.default_value);
+    }
+}
+
+/// Reads the `key=value,...` part of `text` (which has one) into `spec`, checking each key and
+/// value against `info`.
+void read_options(const AccelInfo& info, std::string_view text, AccelSpec& spec) {
+    std::vector<std::string> seen;
+    std::string_view rest = text.substr(text.find(':') + 1);
+    while (true) {
+        const size_t comma = rest.find(',');
+        const std::string item = trim(rest.substr(0, comma));
+        const size_t eq = item.find('=');
+        if (item.empty() || eq == std::string::npos)
+            throw Error("malformed spec '" + std::string(text) + "': expected key=value, got '" + item +
+                        "' (form: NAME[:key=value,...])");
+        const std::string key = trim(item.substr(0, eq)), value = trim(item.substr(eq + 1));
+        const OptionInfo* opt = find_option(info, key);
+        if (!opt) {
+            std::vector<std::string> keys;
+            for (const auto& o : info.options) keys.push_back(o.key);
+            throw Error(spec.name + ": unknown option '" + key + "'; allowed options: " + join(keys));
+        }
+        for (const auto& s : seen)
+            if (s == key) throw Error(spec.name + ": option '" + key + "' given twice in '" + std::string(text) + "'");
+        seen.push_back(key);
+        spec.options[key] = parse_option_value(spec.name, *opt, value);
+        if (comma == std::string_view::npos) break;
+        rest = rest.substr(comma + 1);
+    }
+}
+
 }  // namespace
+
+OptionInfo preset_option(std::string key, std::string help, std::vector<Preset> presets) {
+    OptionInfo o{std::move(key), std::move(help), {}, {}, 0, 0};
+    for (Preset& p : presets) {
+        o.choices.push_back(std::move(p.name));
+        o.presets.push_back(std::move(p.sets));
+    }
+    if (o.choices.empty() || !o.presets.front().empty())
+        throw Error("preset option '" + o.key + "': the first value is the default and must set nothing");
+    o.default_value = o.choices.front();
+    return o;
+}
 
 const std::vector<AccelInfo>& accel_registry() {
     static const std::vector<AccelInfo> registry = make_registry();
@@ -95,21 +169,34 @@ const AccelInfo* find_accel(std::string_view name) {
     return nullptr;
 }
 
-const std::string& AccelSpec::get(const std::string& key) const {
+const OptionValue& AccelSpec::value(const std::string& key) const {
     auto it = options.find(key);
     if (it == options.end()) throw Error(name + ": internal error: option '" + key + "' is not registered");
     return it->second;
 }
 
-long AccelSpec::get_int(const std::string& key) const {
-    long v = 0;
-    if (!parse_long(get(key), v)) throw Error(name + ": option " + key + "=" + get(key) + " is not an integer");
-    return v;
-}
+const std::string& AccelSpec::get(const std::string& key) const { return value(key).text; }
 
-double AccelSpec::get_real(const std::string& key) const {
-    double v = 0;
-    if (!parse_real(get(key), v)) throw Error(name + ": option " + key + "=" + get(key) + " is not a number");
+long AccelSpec::get_int(const std::string& key) const { return value(key).integer; }
+
+double AccelSpec::get_real(const std::string& key) const { return value(key).real; }
+
+OptionValue parse_option_value(const std::string& accel, const OptionInfo& o, const std::string& text) {
+    OptionValue v{text};
+    if (!o.choices.empty()) {
+        v.choice = size_t(std::find(o.choices.begin(), o.choices.end(), text) - o.choices.begin());
+        if (v.choice == o.choices.size())
+            throw Error(accel + ": " + o.key + "=" + text + " is not allowed; choose one of " + join(o.choices));
+    } else if (o.real) {
+        if (!parse_real(text, v.real) || v.real < o.real_min || v.real > o.real_max) {
+            std::ostringstream range;
+            range << "[" << o.real_min << ", " << o.real_max << "]";
+            throw Error(accel + ": " + o.key + "=" + text + " must be a number in " + range.str());
+        }
+    } else if (!parse_long(text, v.integer) || v.integer < o.min || v.integer > o.max) {
+        throw Error(accel + ": " + o.key + "=" + text + " must be an integer in [" + std::to_string(o.min) + ", " +
+                    std::to_string(o.max) + "]");
+    }
     return v;
 }
 
@@ -121,7 +208,7 @@ std::string AccelSpec::str() const {
     std::string s = name;
     char sep = ':';
     for (const auto& [k, v] : options) {
-        s += sep + k + "=" + v;
+        s += sep + k + "=" + v.text;
         sep = ',';
     }
     return s;
@@ -138,53 +225,10 @@ AccelSpec parse_accel_spec(std::string_view text) {
         throw Error("unknown acceleration structure '" + spec.name + "' in spec '" + std::string(text) +
                     "'; known structures: " + join(names) + " (see `thicket accels`)");
     }
-    for (const OptionInfo& o : info->options) spec.options[o.key] = o.default_value;
-    if (colon == std::string_view::npos) return spec;
-
-    std::vector<std::string> seen;
-    std::string_view rest = text.substr(colon + 1);
-    while (true) {
-        const size_t comma = rest.find(',');
-        const std::string item = trim(rest.substr(0, comma));
-        const size_t eq = item.find('=');
-        if (item.empty() || eq == std::string::npos)
-            throw Error("malformed spec '" + std::string(text) + "': expected key=value, got '" + item +
-                        "' (form: NAME[:key=value,...])");
-        const std::string key = trim(item.substr(0, eq)), value = trim(item.substr(eq + 1));
-        const OptionInfo* opt = nullptr;
-        for (const OptionInfo& o : info->options)
-            if (o.key == key) opt = &o;
-        if (!opt) {
-            std::vector<std::string> keys;
-            for (const auto& o : info->options) keys.push_back(o.key);
-            throw Error(spec.name + ": unknown option '" + key + "'; allowed options: " + join(keys));
-        }
-        for (const auto& s : seen)
-            if (s == key) throw Error(spec.name + ": option '" + key + "' given twice in '" + std::string(text) + "'");
-        seen.push_back(key);
-        if (!opt->choices.empty()) {
-            bool ok = false;
-            for (const auto& c : opt->choices) ok = ok || c == value;
-            if (!ok)
-                throw Error(spec.name + ": " + key + "=" + value + " is not allowed; choose one of " +
-                            join(opt->choices));
-        } else if (opt->real) {
-            double v = 0;
-            if (!parse_real(value, v) || v < opt->real_min || v > opt->real_max) {
-                std::ostringstream range;
-                range << "[" << opt->real_min << ", " << opt->real_max << "]";
-                throw Error(spec.name + ": " + key + "=" + value + " must be a number in " + range.str());
-            }
-        } else {
-            long v = 0;
-            if (!parse_long(value, v) || v < opt->min || v > opt->max)
-                throw Error(spec.name + ": " + key + "=" + value + " must be an integer in [" +
-                            std::to_string(opt->min) + ", " + std::to_string(opt->max) + "]");
-        }
-        spec.options[key] = value;
-        if (comma == std::string_view::npos) break;
-        rest = rest.substr(comma + 1);
-    }
+    spec.info = info;
+    for (const OptionInfo& o : info->options) spec.options[o.key] = parse_option_value(spec.name, o, o.default_value);
+    if (colon != std::string_view::npos) read_options(*info, text, spec);
+    expand_presets(*info, spec);
     return spec;
 }
 
@@ -200,12 +244,13 @@ std::unique_ptr<Accel> build_accel(std::string_view spec_text, const Scene& scen
 }
 
 std::unique_ptr<Accel> build_accel(const AccelSpec& parsed, const Scene& scene, unsigned threads) {
-    const AccelInfo* info = find_accel(parsed.name);
-    if (!info) throw Error("unknown acceleration structure '" + parsed.name + "' (see `thicket accels`)");
+    if (!parsed.info)
+        throw Error("unknown acceleration structure '" + parsed.name +
+                    "' (not a spec made by parse_accel_spec; see `thicket accels`)");
     AccelSpec spec = parsed;
     spec.threads = threads;
     const auto start = std::chrono::steady_clock::now();
-    std::unique_ptr<Accel> accel = info->build(scene, spec);
+    std::unique_ptr<Accel> accel = parsed.info->build(scene, spec);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     accel->set_origin(spec.str(), ms);
     return accel;
@@ -226,6 +271,13 @@ std::string describe_accels() {
             else
                 out << join(o.choices, "|");
             out << "  (default " << o.default_value << ")\n      " << o.help << "\n";
+            for (size_t i = 0; i < o.presets.size(); ++i) {
+                if (o.presets[i].empty()) continue;
+                out << "      " << o.key << "=" << o.choices[i] << " sets ";
+                for (size_t k = 0; k < o.presets[i].size(); ++k)
+                    out << (k ? "," : "") << o.presets[i][k].key << "=" << o.presets[i][k].value;
+                out << "\n";
+            }
         }
         out << "  variants tested: " << info.variants.size() << "\n";
     }

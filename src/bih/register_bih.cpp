@@ -31,17 +31,7 @@ void register_bih(std::vector<AccelInfo>& registry) {
                       BihEmptySide::Cut, kEmptySides),
     };
     info.variants = {"bih", "bih:empty=refine", "bih:max-leaf=1", "bih:isect=watertight"};
-    info.build = [](const Scene& scene, const AccelSpec& spec) {
-        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
-            return std::make_unique<Bih<decltype(prims)>>(std::move(prims), build_options(spec));
-        });
-    };
-    info.load = [](std::istream& in, const Scene& scene, const AccelSpec& spec) {
-        BihData data = read_bih(in, scene.primitive_count());
-        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
-            return std::make_unique<Bih<decltype(prims)>>(std::move(prims), std::move(data));
-        });
-    };
+    set_build_and_load<Bih>(info, build_options, read_bih);
     registry.push_back(std::move(info));
 }
 

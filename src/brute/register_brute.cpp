@@ -9,11 +9,7 @@ void register_brute(std::vector<AccelInfo>& registry) {
     info.summary = "brute force: tests every primitive; the reference every structure is checked against";
     info.partitioning = Partitioning::None;
     info.variants = {"brute", "brute:isect=watertight"};
-    info.build = [](const Scene& scene, const AccelSpec& spec) {
-        return with_primitives(scene, spec, [](auto prims) -> std::unique_ptr<Accel> {
-            return std::make_unique<BruteForce<decltype(prims)>>(std::move(prims));
-        });
-    };
+    info.build = [](const Scene& scene, const AccelSpec& spec) { return make_structure<BruteForce>(scene, spec); };
     registry.push_back(std::move(info));
 }
 

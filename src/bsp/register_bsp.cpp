@@ -54,17 +54,7 @@ void register_bsp(std::vector<AccelInfo>& registry) {
         "bsp:isect=watertight,max-leaf=4,candidates=4",
         "bsp:fragment-budget=2,max-depth=16",
     };
-    info.build = [](const Scene& scene, const AccelSpec& spec) {
-        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
-            return std::make_unique<Bsp<decltype(prims)>>(std::move(prims), build_options(spec));
-        });
-    };
-    info.load = [](std::istream& in, const Scene& scene, const AccelSpec& spec) {
-        BspData data = read_bsp(in, scene.primitive_count());
-        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
-            return std::make_unique<Bsp<decltype(prims)>>(std::move(prims), std::move(data));
-        });
-    };
+    set_build_and_load<Bsp>(info, build_options, read_bsp);
     registry.push_back(std::move(info));
 }
 

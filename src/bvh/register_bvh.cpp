@@ -64,15 +64,10 @@ void register_bvh(std::vector<AccelInfo>& registry) {
 
     info.threaded_build = true;
     info.build = [](const Scene& scene, const AccelSpec& spec) {
-        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
-            return std::make_unique<Bvh<decltype(prims)>>(std::move(prims), build_options(spec), traversal_option(spec));
-        });
+        return make_structure<Bvh>(scene, spec, build_options(spec), traversal_option(spec));
     };
     info.load = [](std::istream& in, const Scene& scene, const AccelSpec& spec) {
-        BvhData data = read_bvh(in, scene.primitive_count());
-        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
-            return std::make_unique<Bvh<decltype(prims)>>(std::move(prims), std::move(data), traversal_option(spec));
-        });
+        return make_structure<Bvh>(scene, spec, read_bvh(in, scene.primitive_count()), traversal_option(spec));
     };
     registry.push_back(std::move(info));
 }

@@ -40,24 +40,24 @@ std::string list(const std::vector<Isa>& isas) {
     return out;
 }
 
-bool parse_level(const std::string& value, Isa& out) {
-    for (Isa i : {Isa::Scalar, Isa::Sse, Isa::Avx2, Isa::Avx512})
-        if (value == isa_name(i)) {
-            out = i;
-            return true;
-        }
-    return false;
+/// Every name in kIsaLevels, comma-separated, after `first` when it is given.
+std::string level_names(const char* first = nullptr) {
+    std::string out = first ? first : "";
+    for (const Choice<Isa>& c : kIsaLevels) out += (out.empty() ? "" : ", ") + std::string(c.name);
+    return out;
+}
+
+const Choice<Isa>* find_level(const std::string& value) {
+    for (const Choice<Isa>& c : kIsaLevels)
+        if (value == c.name) return &c;
+    return nullptr;
 }
 
 }  // namespace
 
 const char* isa_name(Isa isa) {
-    switch (isa) {
-    case Isa::Scalar: return "scalar";
-    case Isa::Sse: return "sse";
-    case Isa::Avx2: return "avx2";
-    case Isa::Avx512: return "avx512";
-    }
+    for (const Choice<Isa>& c : kIsaLevels)
+        if (c.value == isa) return c.name;
     return "?";
 }
 
@@ -72,23 +72,23 @@ Isa cpu_best_isa() { return cpu_isas().back(); }
 
 Isa resolve_isa(const std::string& value) {
     const Isa best = cpu_best_isa();
-    if (value == "auto") {
+    if (value == kAutoIsa) {
         const char* env = std::getenv("THICKET_ISA");
         if (!env || !*env) return best;
-        Isa cap;
-        if (!parse_level(env, cap))
-            throw Error(std::string("THICKET_ISA=") + env + " is not a level; use scalar, sse, avx2 or avx512");
-        if (cap > best)
+        const Choice<Isa>* cap = find_level(env);
+        if (!cap)
+            throw Error(std::string("THICKET_ISA=") + env + " is not a level; choose one of " + level_names());
+        if (cap->value > best)
             throw Error(std::string("THICKET_ISA=") + env + " asks for a level this CPU does not run; it has " +
                         list(cpu_isas()));
-        return cap;
+        return cap->value;
     }
-    Isa isa;
-    if (!parse_level(value, isa))
-        throw Error("bvh8: isa=" + value + " is not a level; use auto, scalar, sse, avx2 or avx512");
-    if (isa > best)
+    const Choice<Isa>* level = find_level(value);
+    if (!level)
+        throw Error("bvh8: isa=" + value + " is not allowed; choose one of " + level_names(kAutoIsa));
+    if (level->value > best)
         throw Error("bvh8: isa=" + value + " is not supported by this CPU; it has " + list(cpu_isas()));
-    return isa;
+    return level->value;
 }
 
 const KernelTable& kernels_for(Isa isa) {

@@ -4,50 +4,18 @@
 #include "thicket/bvh8/bvh8.h"
 
 #include <string>
-#include <string_view>
 #include <utility>
-
-#include "thicket/core/error.h"
 
 namespace thicket {
 
 namespace {
 
-constexpr Choice<std::string_view> kIsas[] = {
-    {"auto", "auto"}, {"scalar", "scalar"}, {"sse", "sse"}, {"avx2", "avx2"}, {"avx512", "avx512"},
-};
 constexpr Choice<bool> kOnOff[] = {{"on", true}, {"off", false}};
 
-enum class Quality { Custom, Low, Medium, High };
-constexpr Choice<Quality> kQualities[] = {
-    {"custom", Quality::Custom}, {"low", Quality::Low}, {"medium", Quality::Medium}, {"high", Quality::High}};
-
-// The defaults of the keys a preset sets; register_bvh8 lists these same strings as the defaults.
-constexpr const char* kDefaultBuilder = "binned-sah";
+// The default of `bins`, which the quality presets set too.
 constexpr const char* kDefaultBins = "16";
 
-/// The builder settings of a quality preset, as spec values. A preset sets builder and bins; a
-/// spec that also gives either a value other than its default asks for two things at once.
-void apply_quality(AccelSpec& spec) {
-    const Quality q = spec.choice("quality", kQualities);
-    if (q == Quality::Custom) return;
-    const std::string builder = q == Quality::Low ? "lbvh" : q == Quality::Medium ? "binned-sah" : "sbvh";
-    const std::string bins = kDefaultBins;
-    const std::string optimize = q == Quality::High ? "reinsertion" : "none";
-    for (const auto& [key, default_value] : {std::pair<std::string, std::string>{"builder", kDefaultBuilder},
-                                             std::pair<std::string, std::string>{"bins", kDefaultBins},
-                                             std::pair<std::string, std::string>{"optimize", "none"}}) {
-        if (spec.get(key) != default_value)
-            throw Error("bvh8: quality=" + spec.get("quality") + " sets " + key + " itself; drop " + key + "=" +
-                        spec.get(key) + " or use quality=custom");
-    }
-    spec.options["builder"] = builder;
-    spec.options["bins"] = bins;
-    spec.options["optimize"] = optimize;
-}
-
-Bvh8Options bvh8_options(AccelSpec spec) {
-    apply_quality(spec);
+Bvh8Options bvh8_options(const AccelSpec& spec) {
     Bvh8Options o;
     o.binary.builder = spec.choice("builder", kBvhBuilders);
     o.binary.bins = int(spec.get_int("bins"));
@@ -57,8 +25,22 @@ Bvh8Options bvh8_options(AccelSpec spec) {
     o.binary.optimize_passes = int(spec.get_int("passes"));
     read_sbvh_options(spec, o.binary);
     o.merge_below = uint32_t(spec.get_int("leaf-merge"));
-    o.isa = bvh8::resolve_isa(std::string(spec.choice("isa", kIsas)));
+    o.isa = bvh8::resolve_isa(spec.get("isa"));
     o.packets = spec.choice("packets", kOnOff);
+    return o;
+}
+
+/// The `isa` option: kAutoIsa, then the levels of the one table bvh8::kIsaLevels (which
+/// resolve_isa() reads the value with).
+OptionInfo isa_option() {
+    std::string levels;
+    for (const Choice<bvh8::Isa>& c : bvh8::kIsaLevels) levels += (levels.empty() ? "" : "|") + std::string(c.name);
+    OptionInfo o = choice_option("isa",
+                                 std::string("traversal kernels: ") + bvh8::kAutoIsa +
+                                     " (the CPU's best, capped by THICKET_ISA=" + levels + ") or one level",
+                                 bvh8::Isa::Scalar, bvh8::kIsaLevels);
+    o.choices.insert(o.choices.begin(), bvh8::kAutoIsa);
+    o.default_value = bvh8::kAutoIsa;
     return o;
 }
 
@@ -73,21 +55,21 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
         choice_option("builder", "the binary BVH builder whose tree is collapsed to 8 wide", BvhBuilder::BinnedSah,
                       kBvhBuilders),
         {"bins", "bins per axis for binned-sah", kDefaultBins, {}, 2, 256},
-        choice_option("quality",
-                      "builder preset: low = builder=lbvh (fastest build), medium = builder=binned-sah,bins=16 "
-                      "(parallel binned SAH), high = builder=sbvh,optimize=reinsertion (spatial splits, then "
-                      "reinsertion; alpha and budget apply); custom = the builder, bins and optimize keys as given "
-                      "(a preset with another value of one of them is an error)",
-                      Quality::Custom, kQualities),
+        preset_option("quality",
+                      "builder preset: low (fastest build), medium (parallel binned SAH), high (spatial splits, "
+                      "then reinsertion; alpha and budget apply); custom = the builder, bins and optimize keys as "
+                      "given. A preset sets the keys listed below (another value of one of them is an error); the "
+                      "spec records them, with quality=custom",
+                      {{"custom", {}},
+                       {"low", {{"builder", "lbvh"}, {"bins", kDefaultBins}, {"optimize", "none"}}},
+                       {"medium", {{"builder", "binned-sah"}, {"bins", kDefaultBins}, {"optimize", "none"}}},
+                       {"high", {{"builder", "sbvh"}, {"bins", kDefaultBins}, {"optimize", "reinsertion"}}}}),
         {"max-leaf", "largest binary leaf (one 4-triangle block per 4)", "4", {}, 1, 255},
         {"leaf-merge",
          "binary subtrees of at most this many primitives become one leaf: 4 fills one block; 8 trades "
          "speed for memory (fewer, fuller nodes)",
          "4", {}, 0, 64},
-        choice_option("isa",
-                      "traversal kernels: auto (the CPU's best, capped by THICKET_ISA=scalar|sse|avx2|avx512) or "
-                      "one level",
-                      std::string_view("auto"), kIsas),
+        isa_option(),
         choice_option("packets",
                       "batches marked coherent (camera rays in tiles: `thicket render`, `trace --coherent`, the "
                       "bench's primary set) are traced 16 rays at a time through the packet kernels; same answers",
@@ -108,17 +90,12 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
 
     info.threaded_build = true;
     info.build = [](const Scene& scene, const AccelSpec& spec) {
-        const Bvh8Options options = bvh8_options(spec);
-        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
-            return std::make_unique<Bvh8<decltype(prims)>>(std::move(prims), options);
-        });
+        return make_structure<Bvh8>(scene, spec, bvh8_options(spec));
     };
+    info.kernels = [](const AccelSpec& spec) { return std::string(bvh8::isa_name(bvh8::resolve_isa(spec.get("isa")))); };
     info.load = [](std::istream& in, const Scene& scene, const AccelSpec& spec) {
         bvh8::SavedTree saved = bvh8::read_tree(in, scene.primitive_count());
-        const Bvh8Options options = bvh8_options(spec);
-        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
-            return std::make_unique<Bvh8<decltype(prims)>>(std::move(prims), options, std::move(saved));
-        });
+        return make_structure<Bvh8>(scene, spec, bvh8_options(spec), std::move(saved));
     };
     registry.push_back(std::move(info));
 }

@@ -40,17 +40,11 @@ void register_kdtree(std::vector<AccelInfo>& registry) {
                      "kdtree:builder=median,traversal=stack,isect=watertight"};
 
     info.build = [](const Scene& scene, const AccelSpec& spec) {
-        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
-            return std::make_unique<KdTree<decltype(prims)>>(std::move(prims), build_options(spec),
-                                                             traversal_option(spec));
-        });
+        return make_structure<KdTree>(scene, spec, build_options(spec), traversal_option(spec));
     };
     info.load = [](std::istream& in, const Scene& scene, const AccelSpec& spec) {
-        KdTreeData data = read_kdtree(in, scene.primitive_count());
-        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
-            return std::make_unique<KdTree<decltype(prims)>>(std::move(prims), std::move(data), build_options(spec),
-                                                             traversal_option(spec));
-        });
+        return make_structure<KdTree>(scene, spec, read_kdtree(in, scene.primitive_count()), build_options(spec),
+                                      traversal_option(spec));
     };
     registry.push_back(std::move(info));
 }

@@ -40,17 +40,7 @@ void register_obb(std::vector<AccelInfo>& registry) {
     for (OptionInfo& o : bvh_optimize_options()) info.options.push_back(std::move(o));
     info.variants = {"obb", "obb:fit=axes", "obb:builder=lbvh,max-leaf=1", "obb:isect=watertight"};
     info.threaded_build = true;
-    info.build = [](const Scene& scene, const AccelSpec& spec) {
-        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
-            return std::make_unique<Obb<decltype(prims)>>(std::move(prims), build_options(spec));
-        });
-    };
-    info.load = [](std::istream& in, const Scene& scene, const AccelSpec& spec) {
-        ObbData data = read_obb(in, scene.primitive_count());
-        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
-            return std::make_unique<Obb<decltype(prims)>>(std::move(prims), std::move(data));
-        });
-    };
+    set_build_and_load<Obb>(info, build_options, read_obb);
     registry.push_back(std::move(info));
 }
 

@@ -40,17 +40,7 @@ void register_tetra(std::vector<AccelInfo>& registry) {
     // of seconds on Sponza or Sibenik, the suite's budget is a few; the larger shared scenes go
     // to the fallback bvh here, with the reason printed (docs/tetra.md has their figures).
     info.variants = {"tetra:max-triangles=20000"};
-    info.build = [](const Scene& scene, const AccelSpec& spec) {
-        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
-            return std::make_unique<Tetra<decltype(prims)>>(std::move(prims), build_options(spec));
-        });
-    };
-    info.load = [](std::istream& in, const Scene& scene, const AccelSpec& spec) {
-        TetraData data = read_tetra(in, scene.primitive_count());
-        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
-            return std::make_unique<Tetra<decltype(prims)>>(std::move(prims), std::move(data));
-        });
-    };
+    set_build_and_load<Tetra>(info, build_options, read_tetra);
     registry.push_back(std::move(info));
 }
 

@@ -149,9 +149,8 @@ size_t most_tests_per_query(const Accel& accel, size_t primitives) {
     const AccelSpec spec = parse_accel_spec(accel.spec());
     // `mailbox=off` means what it says: a primitive in several cells is tested once per cell.
     if (spec.options.count("mailbox") && spec.get("mailbox") == "off") return SIZE_MAX;
-    const bool spatial_splits =
-        (spec.name == "bvh" || spec.name == "bvh8") &&
-        (spec.get("builder") == "sbvh" || (spec.options.count("quality") && spec.get("quality") == "high"));
+    // (bvh8's quality=high is recorded as the builder=sbvh it stands for.)
+    const bool spatial_splits = (spec.name == "bvh" || spec.name == "bvh8") && spec.get("builder") == "sbvh";
     if (!spatial_splits) return primitives;
     for (const auto& [key, value] : accel.stats().extra)
         if (key == "references") return std::max<size_t>(primitives, std::stoull(value));

@@ -24,6 +24,9 @@ TEST(Spec, DefaultsAndCanonicalForm) {
     const AccelSpec t = parse_accel_spec("bvh:traversal=stack, bins=16");
     EXPECT_EQ(t.get("traversal"), "stack");
     EXPECT_EQ(t.get_int("bins"), 16);
+    EXPECT_EQ(t.info, find_accel("bvh")) << "the spec keeps the structure it names";
+    EXPECT_EQ(t.options.at("traversal").choice, 1u) << "stack: the second traversal";
+    EXPECT_DOUBLE_EQ(t.get_real("budget"), 0.3);
     EXPECT_EQ(parse_accel_spec(t.str()).str(), t.str()) << "canonical form parses to itself";
     EXPECT_EQ(t.str(),
               "bvh:alpha=1e-3,bins=16,budget=0.3,builder=binned-sah,isect=moller,max-leaf=8,optimize=none,passes=3,"
@@ -48,6 +51,33 @@ TEST(Spec, ErrorsListWhatIsAllowed) {
     EXPECT_NE(error_of("bvh:builder").find("key=value"), std::string::npos);
     EXPECT_NE(error_of("bvh:bins=8,bins=9").find("twice"), std::string::npos);
     EXPECT_NE(error_of("bvh:").find("key=value"), std::string::npos);
+}
+
+TEST(Spec, PresetsAreExpandedAndTheSpecRecordsWhatIsBuilt) {
+    const AccelSpec high = parse_accel_spec("bvh8:quality=high,max-leaf=2");
+    EXPECT_EQ(high.get("builder"), "sbvh");
+    EXPECT_EQ(high.get("optimize"), "reinsertion");
+    EXPECT_EQ(high.get("max-leaf"), "2") << "keys the preset does not set combine with it";
+    EXPECT_EQ(high.get("quality"), "custom") << "the preset stands for the keys it set";
+    EXPECT_EQ(parse_accel_spec(high.str()).str(), high.str()) << "the recorded spec parses to itself";
+    // A key the preset sets, given its default, is no conflict; any other value is.
+    EXPECT_EQ(parse_accel_spec("bvh8:quality=low,builder=binned-sah").get("builder"), "lbvh");
+    EXPECT_NE(error_of("bvh8:builder=midpoint,quality=high")
+                  .find("bvh8: quality=high sets builder itself; drop builder=midpoint or use quality=custom"),
+              std::string::npos)
+        << error_of("bvh8:builder=midpoint,quality=high");
+    EXPECT_NE(error_of("bvh8:quality=low,bins=32").find("sets bins itself; drop bins=32"), std::string::npos);
+    EXPECT_NE(describe_accels().find("quality=high sets builder=sbvh,bins=16,optimize=reinsertion"), std::string::npos);
+}
+
+TEST(Spec, AStructureBuiltFromAPresetSavesAndLoadsWithItsRecordedSpec) {
+    Scene scene;
+    scene.name = "two-triangles";
+    scene.mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    scene.mesh.indices = {0, 1, 2, 0, 1, 3};
+    const auto built = build_accel("bvh8:quality=high", scene);
+    EXPECT_EQ(built->spec(), parse_accel_spec("bvh8:builder=sbvh,optimize=reinsertion").str());
+    EXPECT_EQ(load_accel_bytes(saved_accel_bytes(*built, scene), scene, "saved")->spec(), built->spec());
 }
 
 TEST(Spec, EveryVariantParsesAndIsListed) {

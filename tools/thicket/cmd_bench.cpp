@@ -9,7 +9,6 @@
 #include "thicket/bench/bench_json.h"
 #include "thicket/bench/bench_tables.h"
 #include "thicket/bench/runner.h"
-#include "thicket/bvh8/isa.h"
 #include "thicket/core/error.h"
 #include "thicket/util/atomic_file.h"
 #include "thicket/util/parallel.h"
@@ -39,10 +38,11 @@ struct BenchArgs {
     bool no_embree = false;
 };
 
-// Every spec asked for, `all` expanded, duplicates dropped, each checked before any slow work.
-std::vector<TracerFactory> thicket_tracers(const std::vector<std::string>& accels) {
+// A tracer of every spec asked for (parse_accel_specs(): `all` expanded, duplicates dropped,
+// each checked before any slow work).
+std::vector<TracerFactory> thicket_tracers(const std::vector<AskedSpec>& specs) {
     std::vector<TracerFactory> out;
-    for (const std::string& s : expand_accel_specs(accels)) out.push_back(accel_tracer_factory(s));
+    for (const AskedSpec& s : specs) out.push_back(accel_tracer_factory(s.text));
     return out;
 }
 
@@ -71,8 +71,9 @@ int run_bench(const BenchArgs& args) {
     if (!(args.pass_budget_ms >= 0.0)) throw Error("--pass-budget must be a non-negative number of milliseconds");
     refuse_output_is_input(args.json, args.scenes);
     refuse_overwrite(args.json, args.force);
-    std::vector<TracerFactory> tracers =
-        thicket_tracers(args.accels.empty() ? std::vector<std::string>{"bvh"} : args.accels);
+    const std::vector<AskedSpec> specs =
+        parse_accel_specs(args.accels.empty() ? std::vector<std::string>{"bvh"} : args.accels);
+    std::vector<TracerFactory> tracers = thicket_tracers(specs);
 
     std::string embree_note;
 #if THICKET_HAVE_EMBREE
@@ -96,11 +97,10 @@ int run_bench(const BenchArgs& args) {
     const std::vector<unsigned> thread_counts = bench_thread_counts(args.threads);
     print_machine("before");
     std::printf("embree  %s\n", embree_note.c_str());
-    // bvh8's kernels are chosen at run time: say which ones this run measures.
-    for (const TracerFactory& t : tracers)
-        if (t.name.rfind("bvh8", 0) == 0)
-            std::printf("isa     %s runs the %s kernels\n", t.name.c_str(),
-                        bvh8::isa_name(bvh8::resolve_isa(parse_accel_spec(t.name).get("isa"))));
+    // Structures whose kernels are chosen at run time (bvh8's ISA): say which ones this run measures.
+    for (const AskedSpec& s : specs)
+        if (s.spec.info->kernels)
+            std::printf("isa     %s runs the %s kernels\n", s.text.c_str(), s.spec.info->kernels(s.spec).c_str());
     std::printf("bench   %zu tracers x %zu ray sets, %dx%d, median of %d timed passes after a warm-up%s, on %s\n",
                 tracers.size(), set_names.size(), ray_options.width, ray_options.height, args.reps,
                 args.rounds > 1 ? (", " + std::to_string(args.rounds) + " rounds").c_str() : "",
@@ -130,7 +130,8 @@ int run_bench(const BenchArgs& args) {
         // Embree holds the triangles only: on a scene with shapes it would answer other rays.
         std::vector<TracerFactory> scene_tracers = tracers;
         if (scene.has_shapes() && with_embree) {
-            std::erase_if(scene_tracers, [](const TracerFactory& f) { return f.name.rfind("embree", 0) == 0; });
+            // Thicket's own tracers, one per spec, follow Embree's.
+            scene_tracers.erase(scene_tracers.begin(), scene_tracers.end() - std::ptrdiff_t(specs.size()));
             std::printf("embree  left out for this scene: it has %zu shapes, and the Embree backend holds triangles "
                         "only (no ratios, no agreement)\n", scene.shapes.size());
         }

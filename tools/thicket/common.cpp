@@ -98,7 +98,7 @@ Scene load_scene_verbose(const std::string& path) {
     return scene;
 }
 
-std::vector<std::string> expand_accel_specs(const std::vector<std::string>& asked) {
+std::vector<AskedSpec> parse_accel_specs(const std::vector<std::string>& asked) {
     std::vector<std::string> expanded;
     for (const std::string& s : asked) {
         if (s == "all") {
@@ -108,12 +108,19 @@ std::vector<std::string> expand_accel_specs(const std::vector<std::string>& aske
             expanded.push_back(s);
         }
     }
-    std::vector<std::string> specs;
+    std::vector<AskedSpec> specs;
     for (const std::string& s : expanded) {
-        parse_accel_spec(s);
-        if (std::find(specs.begin(), specs.end(), s) == specs.end()) specs.push_back(s);
+        AccelSpec parsed = parse_accel_spec(s);
+        if (std::none_of(specs.begin(), specs.end(), [&](const AskedSpec& a) { return a.text == s; }))
+            specs.push_back({s, std::move(parsed)});
     }
     return specs;
+}
+
+std::vector<std::string> expand_accel_specs(const std::vector<std::string>& asked) {
+    std::vector<std::string> texts;
+    for (AskedSpec& a : parse_accel_specs(asked)) texts.push_back(std::move(a.text));
+    return texts;
 }
 
 std::string load_average() {
@@ -135,7 +142,7 @@ std::unique_ptr<Accel> make_accel_verbose(const AccelChoice& choice, const std::
         accel = load_accel(choice.load, scene);
         how = "loaded from " + choice.load + " in " + format_duration(ms_since(start) / 1000);
     } else {
-        accel = spec ? build_accel(*spec, scene, threads) : build_accel(choice.spec, scene, threads);
+        accel = build_accel(spec.value(), scene, threads);
     }
     const AccelStats st = accel->stats();
     if (how.empty()) how = "built in " + format_duration(st.build_ms / 1000);

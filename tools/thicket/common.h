@@ -62,7 +62,8 @@ struct VertexCounts {
 };
 VertexCounts count_bad_vertices(const Scene& scene);
 /// Builds (or loads with --load) the structure on up to `threads` threads (0: every core) and
-/// prints one line about it. `spec`: validate_accel_choice()'s result for `choice`.
+/// prints one line about it. `spec`: validate_accel_choice()'s result for `choice` (what is
+/// built: the spec is not parsed again).
 std::unique_ptr<Accel> make_accel_verbose(const AccelChoice& choice, const std::optional<AccelSpec>& spec,
                                           const Scene& scene, unsigned threads);
 
@@ -88,9 +89,16 @@ inline constexpr int kMaxRounds = 100;
 /// The help text of --force for a command whose output is FILE.
 inline constexpr const char* kForceHelp = "overwrite the output file if it exists (special files such as /dev/null, "
                                           "a FIFO or - for stdout are written without it)";
+/// One spec as it was asked for (what tables and tracers are named by) and parsed.
+struct AskedSpec {
+    std::string text;
+    AccelSpec spec;
+};
 /// `asked` with every `all` replaced by every registered variant (all_accel_variants()),
 /// duplicates dropped (the first kept), each spec parsed so that a typo throws Error before any
 /// slow work.
+std::vector<AskedSpec> parse_accel_specs(const std::vector<std::string>& asked);
+/// The texts of parse_accel_specs(asked).
 std::vector<std::string> expand_accel_specs(const std::vector<std::string>& asked);
 /// The 1-minute load average (Linux), or "unknown": other work on the machine is the first
 /// thing to rule out when timings look noisy.

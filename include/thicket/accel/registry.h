@@ -11,14 +11,23 @@
 #include <vector>
 
 #include "thicket/accel/accel.h"
+#include "thicket/accel/choice.h"
 #include "thicket/scene/scene.h"
 
 namespace thicket {
+
+/// One key a preset sets, and the value (as a spec writes it) it sets the key to.
+struct PresetSetting {
+    std::string key;
+    std::string value;
+};
 
 /// One named option of a structure: either one of `choices`, an integer in [min, max], or (when
 /// `real`, made with real_option()) a real number in [real_min, real_max].
 /// Choice options are best made with choice_option() from the same table the builder reads the
 /// value with (AccelSpec::choice), so the listing, the parser and the builder cannot disagree.
+/// A preset option (preset_option()) is a choice option that the parser expands: no builder
+/// reads it.
 struct OptionInfo {
     std::string key;
     std::string help;
@@ -27,6 +36,9 @@ struct OptionInfo {
     long min = 0, max = 0;
     bool real = false;                 ///< a real number (AccelSpec::get_real), not an integer
     double real_min = 0.0, real_max = 0.0;
+    /// A preset option: per choice, in the same order, the keys that value sets (the default
+    /// sets none). Empty for every other option.
+    std::vector<std::vector<PresetSetting>> presets = {};
 };
 
 /// The OptionInfo of a real-valued option in [lo, hi] (written as C's strtod reads it: 0.3, 1e-5).
@@ -37,15 +49,6 @@ inline OptionInfo real_option(std::string key, std::string help, std::string fal
     o.real_max = hi;
     return o;
 }
-
-/// One allowed value of a choice option: its spelling in a spec and the value it stands for.
-/// A structure declares each choice option as one array of these, e.g.
-///   constexpr Choice<BvhBuilder> kBuilders[] = {{"midpoint", BvhBuilder::Midpoint}, ...};
-template <class T>
-struct Choice {
-    const char* name;
-    T value;
-};
 
 /// The OptionInfo of the option `key` whose allowed values are the names of `table`, listed in
 /// the table's order; the default is the name of `fallback`, which must be in the table.
@@ -59,34 +62,68 @@ OptionInfo choice_option(std::string key, std::string help, T fallback, const Ch
     return o;
 }
 
-/// A parsed, validated spec with every option present (defaults filled in).
+/// One value of a preset option: its name and the keys it sets.
+struct Preset {
+    std::string name;
+    std::vector<PresetSetting> sets;
+};
+
+/// The OptionInfo of the preset option `key`, whose values are the names of `presets`; the first
+/// is the default and must set nothing. parse_accel_spec() expands the chosen value: it sets
+/// each of its keys, refuses a spec that also gives one of them a value other than that key's
+/// default, and leaves the option at its default, so that the parsed spec (and the spec a
+/// structure records) names what is built.
+OptionInfo preset_option(std::string key, std::string help, std::vector<Preset> presets);
+
+struct AccelInfo;
+
+/// One option's value in a parsed spec: as written, and as the typed value of the option's
+/// kind, which is what builders read: the index of a choice in OptionInfo::choices (and in the
+/// table it was made from), an integer, or a real number.
+struct OptionValue {
+    std::string text;
+    size_t choice = 0;
+    long integer = 0;
+    double real = 0.0;
+};
+
+/// Parses `text` as a value of option `o` of the structure named `accel`. Throws Error naming
+/// the structure, key and value, and the allowed values or range.
+OptionValue parse_option_value(const std::string& accel, const OptionInfo& o, const std::string& text);
+
+/// A parsed, validated spec with every option present (defaults filled in), each value parsed
+/// once (parse_option_value()).
 struct AccelSpec {
     std::string name;
-    std::map<std::string, std::string> options;
+    /// The registered structure (parse_accel_spec() sets it): build_accel() builds with it.
+    const AccelInfo* info = nullptr;
+    std::map<std::string, OptionValue> options;
     /// Threads the build may use (0: every core). Not part of the spec string: a structure builds
     /// the same result on any number of threads.
     unsigned threads = 0;
 
+    /// The value of option `key` as written.
     const std::string& get(const std::string& key) const;
+    /// The value of an integer option; the parser has checked its range.
     long get_int(const std::string& key) const;
     /// The value of a real option (real_option()); the parser has checked its range.
     double get_real(const std::string& key) const;
-    /// The value `table` gives option `key`. Throws Error listing the table's names when the
-    /// option holds anything else: no value silently becomes a default.
+    /// The value `table` gives option `key`: the table's entry at the option's choice index, the
+    /// table being the one the option was made from (choice_option()). Throws Error listing the
+    /// table's names when the option holds anything else: no value silently becomes a default.
     template <class T, size_t N>
     T choice(const std::string& key, const Choice<T> (&table)[N]) const {
-        const std::string& value = get(key);
+        const OptionValue& v = value(key);
+        if (v.choice < N && v.text == table[v.choice].name) return table[v.choice].value;
         std::vector<std::string> names;
-        for (const Choice<T>& c : table) {
-            if (value == c.name) return c.value;
-            names.push_back(c.name);
-        }
+        for (const Choice<T>& c : table) names.push_back(c.name);
         refuse_choice(key, names);
     }
     /// Canonical form: name, then every option in key order.
     std::string str() const;
 
 private:
+    const OptionValue& value(const std::string& key) const;
     /// Throws Error("NAME: key=value is not allowed; choose one of a, b, ...").
     [[noreturn]] void refuse_choice(const std::string& key, const std::vector<std::string>& allowed) const;
 };
@@ -120,14 +157,18 @@ struct AccelInfo {
     bool threaded_build = false;
     /// Restores a saved structure (the header is already read and checked); null if unsupported.
     std::function<std::unique_ptr<Accel>(std::istream&, const Scene&, const AccelSpec&)> load;
+    /// For a structure whose kernels are chosen at run time: the kernels `spec` runs on this
+    /// machine (bvh8: its ISA level, e.g. "avx2"), what the bench prints before it measures;
+    /// null for the others.
+    std::function<std::string(const AccelSpec&)> kernels;
 };
 
 /// Every registered structure, in registration order.
 const std::vector<AccelInfo>& accel_registry();
 const AccelInfo* find_accel(std::string_view name);
 
-/// Parses and validates a spec; throws Error naming the bad name, key or value and listing
-/// what is allowed.
+/// Parses and validates a spec and expands its preset options (preset_option()); throws Error
+/// naming the bad name, key or value and listing what is allowed.
 AccelSpec parse_accel_spec(std::string_view spec);
 
 /// Every variant spec of every registered structure (what `--accel all` means).
@@ -136,8 +177,8 @@ std::vector<std::string> all_accel_variants();
 /// Parses `spec` and builds the structure over `scene` on up to `threads` threads (0: every
 /// core), filling stats().build_ms. The result does not depend on `threads`.
 std::unique_ptr<Accel> build_accel(std::string_view spec, const Scene& scene, unsigned threads = 0);
-/// Builds from a spec parse_accel_spec() already parsed (a caller that validated the spec up
-/// front need not parse it again).
+/// Builds from a spec parse_accel_spec() already parsed, with the structure it names (a caller
+/// that validated the spec up front need not parse it again).
 std::unique_ptr<Accel> build_accel(const AccelSpec& spec, const Scene& scene, unsigned threads = 0);
 
 /// Saves/loads a structure with a versioned header bound to the scene's fingerprint; the checksum
