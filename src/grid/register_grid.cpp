@@ -69,17 +69,10 @@ void register_grid(std::vector<AccelInfo>& registry) {
         "grid:isect=watertight",
     };
     info.build = [](const Scene& scene, const AccelSpec& spec) {
-        const GridOptions o = grid_options(spec);
-        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
-            return std::make_unique<Grid<decltype(prims)>>(std::move(prims), o);
-        });
+        return make_structure<Grid>(scene, spec, grid_options(spec));
     };
     info.load = [](std::istream& in, const Scene& scene, const AccelSpec& spec) {
-        SavedGrid saved = read_grid(in, scene.primitive_count());
-        const GridOptions o = grid_options(spec);
-        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
-            return std::make_unique<Grid<decltype(prims)>>(std::move(prims), std::move(saved), o);
-        });
+        return make_structure<Grid>(scene, spec, read_grid(in, scene.primitive_count()), grid_options(spec));
     };
     registry.push_back(std::move(info));
 }
@@ -104,17 +97,11 @@ void register_grid2(std::vector<AccelInfo>& registry) {
         "grid2:isect=watertight",
     };
     info.build = [](const Scene& scene, const AccelSpec& spec) {
-        const Grid2Options o = grid2_options(spec);
-        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
-            return std::make_unique<TwoLevelGrid<decltype(prims)>>(std::move(prims), o);
-        });
+        return make_structure<TwoLevelGrid>(scene, spec, grid2_options(spec));
     };
     info.load = [](std::istream& in, const Scene& scene, const AccelSpec& spec) {
-        SavedGrid2 saved = read_grid2(in, scene.primitive_count());
-        const Grid2Options o = grid2_options(spec);
-        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
-            return std::make_unique<TwoLevelGrid<decltype(prims)>>(std::move(prims), std::move(saved), o);
-        });
+        return make_structure<TwoLevelGrid>(scene, spec, read_grid2(in, scene.primitive_count()),
+                                            grid2_options(spec));
     };
     registry.push_back(std::move(info));
 }

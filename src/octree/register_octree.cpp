@@ -33,17 +33,11 @@ void register_octree(std::vector<AccelInfo>& registry) {
         OctreeBuildOptions o;
         o.leaf_size = int(spec.get_int("leaf-size"));
         o.max_depth = int(spec.get_int("max-depth"));
-        const OctreeTraversal t = spec.choice("traversal", kTraversals);
-        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
-            return std::make_unique<Octree<decltype(prims)>>(std::move(prims), o, t);
-        });
+        return make_structure<Octree>(scene, spec, o, spec.choice("traversal", kTraversals));
     };
     info.load = [](std::istream& in, const Scene& scene, const AccelSpec& spec) {
-        OctreeData data = read_octree(in, scene.primitive_count());
-        const OctreeTraversal t = spec.choice("traversal", kTraversals);
-        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
-            return std::make_unique<Octree<decltype(prims)>>(std::move(prims), std::move(data), t);
-        });
+        return make_structure<Octree>(scene, spec, read_octree(in, scene.primitive_count()),
+                                      spec.choice("traversal", kTraversals));
     };
     registry.push_back(std::move(info));
 }
