@@ -1,6 +1,7 @@
 // Collapse of a binary BVH into 8-wide nodes, and the tree's figures.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
 #include <vector>
@@ -60,14 +61,14 @@ public:
             kids.push_back(bin_.nodes[open].leftFirst + 1);
         }
 
+        // Zeroed as a whole: the 20 bytes of padding are saved with the node, and a saved
+        // structure must be a function of the scene and the spec alone (never of stack garbage).
         Node node;
+        std::memset(&node, 0, sizeof node);
         for (auto& axis : node.box) {
             std::fill(std::begin(axis[0]), std::end(axis[0]), kInf);
             std::fill(std::begin(axis[1]), std::end(axis[1]), -kInf);
         }
-        std::fill(std::begin(node.child), std::end(node.child), 0u);
-        std::fill(std::begin(node.leaf_size), std::end(node.leaf_size), uint8_t(0));
-        node.valid = 0;
         const double root_area = root_area_;
         Aabb node_box;
         for (size_t lane = 0; lane < kids.size(); ++lane) {

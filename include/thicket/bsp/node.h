@@ -25,6 +25,9 @@ struct alignas(32) BspNode {
     BspPlane plane;
     uint32_t index = 0;
     uint32_t count = 0;
+    /// The padding to 32 bytes, named so that it is zero: nodes are saved whole, and a saved
+    /// structure must not depend on what the memory held before.
+    uint32_t unused[2] = {0, 0};
 
     bool is_leaf() const { return (count & kLeafBit) != 0; }
     uint32_t leaf_size() const { return count & ~kLeafBit; }
