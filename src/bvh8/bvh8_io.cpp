@@ -24,12 +24,6 @@ namespace {
 /// by a generous multiple of n rather than by n itself.
 constexpr size_t kMaxReferencesPerPrimitive = 4;
 
-void check_count(uint64_t count, uint64_t bound, const char* what, size_t primitive_count) {
-    if (count > bound)
-        throw Error("bvh8 payload claims " + std::to_string(count) + " " + what + " for " +
-                    std::to_string(primitive_count) + " primitives (at most " + std::to_string(bound) + ")");
-}
-
 }  // namespace
 
 void write_tree(std::ostream& out, const Tree& tree, const Blocks& blocks, const std::vector<uint32_t>& ids) {
@@ -49,21 +43,16 @@ SavedTree read_tree(std::istream& in, size_t primitive_count) {
     reader.value(nodes, "node count");
     reader.value(blocks, "block count");
     reader.value(ids, "id count");
-    check_count(nodes, primitive_count + 1, "nodes", primitive_count);
-    check_count(blocks, kMaxReferencesPerPrimitive * primitive_count, "4-triangle blocks", primitive_count);
-    check_count(ids, kMaxReferencesPerPrimitive * primitive_count, "primitive ids", primitive_count);
     if (blocks && ids) throw Error("bvh8 payload holds both triangle blocks and primitive ids");
     if (nodes == 0 && (blocks || ids)) throw Error("bvh8 payload has leaves but no nodes");
     SavedTree saved;
-    saved.tree.nodes.resize(nodes);
-    saved.blocks.resize(blocks);
-    saved.ids.resize(ids);
-    reader.array(saved.tree.nodes.data(), nodes, "nodes");
-    reader.array(saved.blocks.data(), blocks, "4-triangle blocks");
-    reader.array(saved.ids.data(), ids, "primitive ids");
+    const uint64_t references = kMaxReferencesPerPrimitive * uint64_t(primitive_count);
+    reader.array(saved.tree.nodes, nodes, uint64_t(primitive_count) + 1, "nodes");
+    reader.array(saved.blocks, blocks, references, "4-triangle blocks");
+    reader.array(saved.ids, ids, references, "primitive ids");
     reader.value(saved.tree.sah_cost, "SAH cost");
     reader.value(saved.tree.embree_sah_cost, "Embree SAH cost");
-    if (in.peek() != std::char_traits<char>::eof()) throw Error("bvh8 payload has trailing bytes");
+    reader.end();
     validate_tree(saved.tree, blocks ? blocks : ids);
     return saved;
 }
