@@ -114,7 +114,7 @@ std::unique_ptr<Accel> load_accel_bytes(std::string_view bytes, const Scene& sce
     } catch (const Error& e) {
         throw Error(path + ": saved spec is not understood by this build: " + e.what());
     }
-    const AccelInfo* info = find_accel(spec.name);
+    const AccelInfo* info = spec.info;  // set by the parser
     if (!info->load) throw Error(path + ": structure '" + spec.name + "' cannot be loaded from a file");
     std::istringstream payload_in{std::string(payload)};
     std::unique_ptr<Accel> accel;

@@ -21,8 +21,7 @@ public:
 
     std::string name() const override { return name_; }
     bool parallel_build() const override {
-        const AccelInfo* info = find_accel(spec_.name);
-        return info && info->threaded_build;
+        return spec_.info && spec_.info->threaded_build;
     }
 
     double build(const Scene& scene, unsigned threads) override {
@@ -92,8 +91,11 @@ std::unique_ptr<Tracer> make_accel_tracer(const std::string& spec) {
 }
 
 TracerFactory accel_tracer_factory(const std::string& spec) {
-    const AccelSpec parsed = parse_accel_spec(spec);  // a typo fails here, before any tracer is made
-    return {spec, [spec, parsed] { return std::unique_ptr<Tracer>(std::make_unique<AccelTracer>(spec, parsed)); }};
+    return accel_tracer_factory(spec, parse_accel_spec(spec));  // a typo fails here, before any tracer is made
+}
+
+TracerFactory accel_tracer_factory(const std::string& name, const AccelSpec& parsed) {
+    return {name, [name, parsed] { return std::unique_ptr<Tracer>(std::make_unique<AccelTracer>(name, parsed)); }};
 }
 
 }  // namespace thicket

@@ -42,7 +42,7 @@ struct BenchArgs {
 // each checked before any slow work).
 std::vector<TracerFactory> thicket_tracers(const std::vector<AskedSpec>& specs) {
     std::vector<TracerFactory> out;
-    for (const AskedSpec& s : specs) out.push_back(accel_tracer_factory(s.text));
+    for (const AskedSpec& s : specs) out.push_back(accel_tracer_factory(s.text, s.spec));
     return out;
 }
 

@@ -126,8 +126,9 @@ CompareRow compare_one(const Scene& scene, const std::string& label, const std::
     row.primitives = scene.primitive_count();
     row.shapes = scene.shapes.size();
     row.accel = spec;
-    row.spec = parse_accel_spec(spec).str();
-    row.partitioning = spec_partitioning(spec);
+    const AccelSpec parsed = parse_accel_spec(spec);
+    row.spec = parsed.str();
+    row.partitioning = parsed.info ? parsed.info->partitioning : Partitioning::Unknown;
 
     if (!args.no_growth) {
         Progress progress("growth " + spec, sized.size(), "sizes");
@@ -155,7 +156,7 @@ CompareRow compare_one(const Scene& scene, const std::string& label, const std::
         std::fprintf(stderr, "%s\n", line.c_str());
     }
 
-    const TracerFactory factory = accel_tracer_factory(spec);
+    const TracerFactory factory = accel_tracer_factory(spec, parsed);
     Progress progress("speed " + spec, bench_steps(1, sets.size(), options), "steps");
     BenchCallbacks callbacks;
     callbacks.advance = [&](uint64_t n) { progress.advance(n); };

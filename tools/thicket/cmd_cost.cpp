@@ -82,7 +82,7 @@ int run_cost(const CostArgs& args) {
     if (args.pixels < 1 || args.pixels > 100000000ull) throw Error("--pixels must be between 1 and 100000000");
     const int side = int(std::lround(std::sqrt(double(args.pixels))));
     if (side < 1) throw Error("--pixels must be at least 1");
-    const std::vector<std::string> specs = expand_accel_specs(args.accels);
+    const std::vector<AskedSpec> specs = parse_accel_specs(args.accels);
     const SpheresScene s = make_spheres_scene(args.spheres, args.lights, args.seed);
     const uint64_t pixels = uint64_t(side) * uint64_t(side);
     const double spheres_total = double(s.scene.shapes.size());  // the lights are spheres too
@@ -105,8 +105,9 @@ int run_cost(const CostArgs& args) {
                     {TextTable::Align::Left, TextTable::Align::Right, TextTable::Align::Right, TextTable::Align::Right,
                      TextTable::Align::Right, TextTable::Align::Right, TextTable::Align::Right,
                      TextTable::Align::Right});
-    for (const std::string& spec : specs) {
-        const std::unique_ptr<Accel> accel = build_accel(spec, s.scene, args.threads);
+    for (const AskedSpec& asked : specs) {
+        const std::string& spec = asked.text;
+        const std::unique_ptr<Accel> accel = build_accel(asked.spec, s.scene, args.threads);
         // Counted pass: every ray with RayCounters (closest hit for camera rays, any hit for shadow rays).
         std::atomic<uint64_t> tests{0};
         Progress progress("count " + spec, uint64_t(ray_count), "rays");

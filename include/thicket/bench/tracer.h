@@ -10,6 +10,7 @@
 #include <string>
 
 #include "thicket/accel/accel.h"
+#include "thicket/accel/registry.h"
 #include "thicket/core/ray.h"
 #include "thicket/scene/scene.h"
 
@@ -72,5 +73,7 @@ struct TracerFactory {
 std::unique_ptr<Tracer> make_accel_tracer(const std::string& spec);
 /// The factory for make_accel_tracer(spec) (the spec is checked now, not when made).
 TracerFactory accel_tracer_factory(const std::string& spec);
+/// The same for a spec the caller has parsed already (`name` as asked, for the tables).
+TracerFactory accel_tracer_factory(const std::string& name, const AccelSpec& parsed);
 
 }  // namespace thicket
