@@ -54,16 +54,16 @@ int run_closest(const PointArgs& args) {
                     accel->spec().c_str());
 
     std::vector<NearestPoint> closest(n);
-    std::vector<float> signed_distances(args.signed_distance ? n : 0);
+    std::vector<uint8_t> inside(args.signed_distance ? n : 0);
     Progress progress("closest", n, "points");
     BatchOptions batch;
     batch.threads = args.threads;
     batch.progress = [&](size_t done) { progress.advance(done); };
     const auto start = std::chrono::steady_clock::now();
     queries.closest_points(points, closest, batch);
-    if (args.signed_distance) {
+    if (args.signed_distance) {  // the sign only: the distances are the closest points' own
         batch.progress = nullptr;
-        queries.signed_distances(points, signed_distances, args.samples, batch);
+        queries.occupancy(points, inside, args.samples, batch);
     }
     const double seconds = ms_since(start) / 1000.0;
     progress.finish();
@@ -73,7 +73,7 @@ int run_closest(const PointArgs& args) {
     std::vector<unsigned char> records(28 * n);
     for (size_t i = 0; i < n; ++i) {
         const NearestPoint& s = closest[i];
-        const float values[4] = {s.point.x, s.point.y, s.point.z, args.signed_distance ? signed_distances[i] : s.distance};
+        const float values[4] = {s.point.x, s.point.y, s.point.z, args.signed_distance && inside[i] ? -s.distance : s.distance};
         unsigned char* r = records.data() + 28 * i;
         std::memcpy(r, values, 16);
         std::memcpy(r + 16, &s.prim, 4);

@@ -3,7 +3,6 @@
 /// by the density rule over all primitives, then in every non-empty top cell a sub-grid by the
 /// same rule over that cell's primitives. All sub-grids' cells share one compact list array, so
 /// a top cell only needs its sub-grid's resolution and the index of its first cell.
-#include <numeric>
 #include <string>
 #include <vector>
 
@@ -71,12 +70,8 @@ Grid2Data build_grid2(const P& prims, const Grid2Options& o) {
     g.frame = GridFrame::make(g.box, grid2_top_resolution(g.box, prims.size(), o));
 
     // Top level: which primitives each top cell holds.
-    std::vector<uint32_t> ids(prims.size());
-    std::iota(ids.begin(), ids.end(), 0u);
     AssignScratch scratch;
-    CellLists top;
-    append_cell_lists(prims, std::span<const uint32_t>(ids), g.frame, o.assign, top, scratch);
-    top.start.push_back(uint32_t(top.refs.size()));
+    const CellLists top = assign_every_primitive(prims, g.frame, o.assign, scratch);
     g.top_references = top.refs.size();
 
     // Leaf level: a sub-grid per non-empty top cell, over that cell's primitives.

@@ -43,18 +43,32 @@ inline GridResolution grid_resolution(const Aabb& box, size_t prims, const GridO
                  : density_resolution(box.extent(), o.lambda * double(prims), uint32_t(kMaxGridCells), kMaxGridCells);
 }
 
+/// The ids 0 .. prims - 1: every primitive, in id order.
+inline std::vector<uint32_t> every_primitive(size_t prims) {
+    std::vector<uint32_t> ids(prims);
+    std::iota(ids.begin(), ids.end(), 0u);
+    return ids;
+}
+
+/// The cell lists of every primitive of `prims` over `frame`, as the grid builders assign them,
+/// closed by the final offset: the uniform grid's lists and the two-level grid's top level.
+template <PrimitiveSet P>
+CellLists assign_every_primitive(const P& prims, const GridFrame& frame, GridAssign assign, AssignScratch& scratch) {
+    CellLists lists;
+    lists.start.reserve(size_t(frame.cells()) + 1);
+    append_cell_lists(prims, std::span<const uint32_t>(every_primitive(prims.size())), frame, assign, lists, scratch);
+    lists.start.push_back(uint32_t(lists.refs.size()));
+    return lists;
+}
+
 template <PrimitiveSet P>
 GridData build_grid(const P& prims, const GridOptions& o) {
     GridData g;
     g.box = grid_scene_bounds(prims, "grid");
     if (prims.size() == 0) return g;
     g.frame = GridFrame::make(g.box, grid_resolution(g.box, prims.size(), o));
-    std::vector<uint32_t> ids(prims.size());
-    std::iota(ids.begin(), ids.end(), 0u);
     AssignScratch scratch;
-    g.lists.start.reserve(size_t(g.frame.cells()) + 1);
-    append_cell_lists(prims, std::span<const uint32_t>(ids), g.frame, o.assign, g.lists, scratch);
-    g.lists.start.push_back(uint32_t(g.lists.refs.size()));
+    g.lists = assign_every_primitive(prims, g.frame, o.assign, scratch);
     mark_single_cell_references(g.lists.refs, prims.size());
     return g;
 }

@@ -9,7 +9,6 @@
 /// the primitives to cells costs in a build.
 #include <algorithm>
 #include <iosfwd>
-#include <numeric>
 #include <span>
 #include <string>
 #include <vector>
@@ -84,9 +83,8 @@ GridData adopt_grid(const P& prims, SavedGrid saved, const GridOptions& o) {
         throw Error("invalid grid: resolution " + saved.res.str() + ", where the spec's options give " + res.str() +
                     " for this scene");
     g.frame = GridFrame::make(g.box, res);
-    std::vector<uint32_t> ids(prims.size());
-    std::iota(ids.begin(), ids.end(), 0u);
-    grid_detail::prove_cells(prims, std::span<const uint32_t>(ids), g.frame, o.assign, saved.lists, 0, "grid");
+    grid_detail::prove_cells(prims, std::span<const uint32_t>(every_primitive(prims.size())), g.frame, o.assign,
+                             saved.lists, 0, "grid");
     g.lists = std::move(saved.lists);
     return g;
 }
@@ -105,12 +103,8 @@ Grid2Data adopt_grid2(const P& prims, SavedGrid2 saved, const Grid2Options& o) {
         throw Error("invalid grid2: top resolution " + saved.res.str() + ", where the spec's options give " +
                     res.str() + " for this scene");
     g.frame = GridFrame::make(g.box, res);
-    std::vector<uint32_t> ids(prims.size());
-    std::iota(ids.begin(), ids.end(), 0u);
     AssignScratch scratch;
-    CellLists top;
-    append_cell_lists(prims, std::span<const uint32_t>(ids), g.frame, o.assign, top, scratch);
-    top.start.push_back(uint32_t(top.refs.size()));
+    const CellLists top = assign_every_primitive(prims, g.frame, o.assign, scratch);
     uint32_t cell[3];
     for (cell[2] = 0; cell[2] < g.frame.res[2]; ++cell[2])
         for (cell[1] = 0; cell[1] < g.frame.res[1]; ++cell[1])
