@@ -106,12 +106,42 @@ void check_id_space(const Scene& s, size_t more) {
         throw Error(s.name + ": more than " + std::to_string(kNoPrim - 1) + " primitives");
 }
 
+/// Opens a geometry for the `count` ids about to be appended; returns its id. An empty list
+/// that stands for one geometry over what is there becomes that geometry first.
+uint32_t open_geometry(Scene& s, size_t count) {
+    const auto first = uint32_t(s.primitive_count());
+    if (s.geometries.empty() && first > 0) s.geometries.push_back({0, first});
+    s.geometries.push_back({first, uint32_t(count)});
+    return uint32_t(s.geometries.size() - 1);
+}
+
 }  // namespace
 
-void Scene::add_mesh(const TriangleMesh& m) {
+size_t Scene::geometry_count() const {
+    if (!geometries.empty()) return geometries.size();
+    return primitive_count() > 0 ? 1 : 0;
+}
+
+Geometry Scene::geometry(uint32_t id) const {
+    if (geometries.empty()) return {0, uint32_t(primitive_count())};
+    return geometries.at(id);
+}
+
+uint32_t Scene::geometry_of(uint32_t prim) const {
+    if (prim >= primitive_count()) return kNoPrim;
+    if (geometries.empty()) return 0;
+    // The last geometry starting at or before prim: empty geometries share their successor's
+    // start and come before it, so they are never the answer.
+    auto it = std::upper_bound(geometries.begin(), geometries.end(), prim,
+                               [](uint32_t p, const Geometry& g) { return p < g.first; });
+    return uint32_t(it - geometries.begin()) - 1;
+}
+
+uint32_t Scene::add_mesh(const TriangleMesh& m) {
     const size_t tris = m.triangle_count();
     check_id_space(*this, tris);
     make_runs_explicit(*this);
+    const uint32_t id = open_geometry(*this, tris);
     const size_t old_tris = mesh.triangle_count();
     const auto base = uint32_t(mesh.positions.size());
     mesh.positions.insert(mesh.positions.end(), m.positions.begin(), m.positions.end());
@@ -138,13 +168,19 @@ void Scene::add_mesh(const TriangleMesh& m) {
         }
     }
     push_run(runs, uint32_t(primitive_count() - tris), false, uint32_t(old_tris), uint32_t(tris));
+    return id;
 }
 
-void Scene::add_shape(const Shape& s) {
-    check_id_space(*this, 1);
+uint32_t Scene::add_shape(const Shape& s) { return add_shapes({&s, 1}); }
+
+uint32_t Scene::add_shapes(std::span<const Shape> added) {
+    check_id_space(*this, added.size());
     make_runs_explicit(*this);
-    shapes.push_back(s);
-    push_run(runs, uint32_t(primitive_count() - 1), true, uint32_t(shapes.size() - 1), 1);
+    const uint32_t id = open_geometry(*this, added.size());
+    const auto first = uint32_t(primitive_count());
+    shapes.insert(shapes.end(), added.begin(), added.end());
+    push_run(runs, first, true, uint32_t(shapes.size() - added.size()), uint32_t(added.size()));
+    return id;
 }
 
 TriangleMesh load_mesh(const std::string& path) {
@@ -166,7 +202,8 @@ Scene load_scene(const std::string& path_or_builtin) {
         return scene;
     }
     if (path_or_builtin == "teapot-patches") {
-        for (const BezierPatch& patch : teapot_patches()) scene.add_shape(patch);
+        const std::vector<BezierPatch> patches = teapot_patches();
+        scene.add_shapes(std::vector<Shape>(patches.begin(), patches.end()));  // one geometry: the teapot
         return scene;
     }
     const std::string& path = path_or_builtin;

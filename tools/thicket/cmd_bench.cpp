@@ -9,8 +9,11 @@
 #include "thicket/bench/bench_json.h"
 #include "thicket/bench/bench_tables.h"
 #include "thicket/bench/runner.h"
+#include "thicket/accel/ray_rows.h"
 #include "thicket/core/error.h"
 #include "thicket/util/atomic_file.h"
+#include "thicket/util/input_file.h"
+#include "thicket/util/npy.h"
 #include "thicket/util/parallel.h"
 #include "thicket/util/progress.h"
 
@@ -26,6 +29,9 @@ struct BenchArgs {
     std::vector<std::string> scenes;
     std::vector<std::string> accels;
     std::string sets = "primary,shadow,diffuse,random";
+    bool sets_given = false;
+    std::vector<std::string> ray_files;      // --rays: the user's own rays, closest hit
+    std::vector<std::string> any_ray_files;  // --any-rays: the user's own rays, any hit
     std::string size = "320x240";
     std::string camera;
     int reps = 5;
@@ -56,9 +62,35 @@ std::string scene_label(const std::string& path) {
     return p.has_filename() && p.has_extension() ? p.filename().string() : path;
 }
 
+/// The rays of a .npy file (N x 8 float32, `thicket trace`'s layout) as a set of their own, read
+/// through the rows path that `thicket trace` and the Python module use (accel/ray_rows.h): the
+/// same rows are the same rays everywhere, and a row without a meaning is left out (said here).
+RaySet file_ray_set(const std::string& path, bool any_hit, unsigned threads) {
+    const NpyFloatArray matrix = read_npy_matrix(path, 8);
+    const size_t n = matrix.shape[0];
+    RayBatch batch = make_rays(RayRows{matrix.values.data(), n, 8}, threads);
+    if (batch.rays.empty()) throw Error(path + ": no row of its " + std::to_string(n) + " is a ray to trace");
+    if (batch.compacted)
+        std::printf("rays    %s: %zu of %zu rows are not rays (non-finite, zero direction or empty interval): left out\n",
+                    path.c_str(), n - batch.rays.size(), n);
+    RaySet set;
+    set.name = std::filesystem::path(path).filename().string() + (any_hit ? " (any hit)" : "");
+    set.any_hit = any_hit;
+    set.rays = std::move(batch.rays);
+    return set;  // not marked coherent: nothing is known of their order
+}
+
 int run_bench(const BenchArgs& args) {
     // Check every option before the slow work, so a typo costs nothing.
-    const std::vector<std::string> set_names = parse_ray_set_list(args.sets);
+    const bool own_rays = !args.ray_files.empty() || !args.any_ray_files.empty();
+    if (own_rays && args.scenes.size() > 1)
+        throw Error("--rays/--any-rays: rays from a file belong to one scene; give one SCENE (got " +
+                    std::to_string(args.scenes.size()) + ")");
+    // With rays of their own the standard sets run only when asked for.
+    const std::vector<std::string> set_names =
+        own_rays && !args.sets_given ? std::vector<std::string>{} : parse_ray_set_list(args.sets);
+    for (const std::string& f : args.ray_files) check_regular_input(f, "--rays file");
+    for (const std::string& f : args.any_ray_files) check_regular_input(f, "--any-rays file");
     RaySetOptions ray_options;
     parse_ray_set_size(args.size, ray_options);
     if (!args.camera.empty()) ray_options.camera = parse_camera(args.camera);
@@ -69,7 +101,10 @@ int run_bench(const BenchArgs& args) {
     if (args.rounds < 1 || args.rounds > kMaxRounds)
         throw Error("--rounds " + std::to_string(args.rounds) + ": must be between 1 and " + std::to_string(kMaxRounds));
     if (!(args.pass_budget_ms >= 0.0)) throw Error("--pass-budget must be a non-negative number of milliseconds");
-    refuse_output_is_input(args.json, args.scenes);
+    std::vector<std::string> inputs = args.scenes;
+    inputs.insert(inputs.end(), args.ray_files.begin(), args.ray_files.end());
+    inputs.insert(inputs.end(), args.any_ray_files.begin(), args.any_ray_files.end());
+    refuse_output_is_input(args.json, inputs);
     refuse_overwrite(args.json, args.force);
     const std::vector<AskedSpec> specs =
         parse_accel_specs(args.accels.empty() ? std::vector<std::string>{"bvh"} : args.accels);
@@ -101,8 +136,11 @@ int run_bench(const BenchArgs& args) {
     for (const AskedSpec& s : specs)
         if (s.spec.info->kernels)
             std::printf("isa     %s runs the %s kernels\n", s.text.c_str(), s.spec.info->kernels(s.spec).c_str());
-    std::printf("bench   %zu tracers x %zu ray sets, %dx%d, median of %d timed passes after a warm-up%s, on %s\n",
-                tracers.size(), set_names.size(), ray_options.width, ray_options.height, args.reps,
+    const size_t set_count = set_names.size() + args.ray_files.size() + args.any_ray_files.size();
+    const std::string size_text =
+        set_names.empty() ? "" : ", " + std::to_string(ray_options.width) + "x" + std::to_string(ray_options.height);
+    std::printf("bench   %zu tracers x %zu ray sets%s, median of %d timed passes after a warm-up%s, on %s\n",
+                tracers.size(), set_count, size_text.c_str(), args.reps,
                 args.rounds > 1 ? (", " + std::to_string(args.rounds) + " rounds").c_str() : "",
                 thread_counts.size() > 1 ? ("1 and " + std::to_string(thread_counts.back()) + " threads").c_str()
                                          : "1 thread");
@@ -115,10 +153,14 @@ int run_bench(const BenchArgs& args) {
     for (const std::string& path : args.scenes) {
         const Scene scene = load_scene_verbose(path);
         const std::unique_ptr<Accel> hits_from = build_accel(kRaySetHitSpec, scene);
-        const RaySetView view = ray_set_view(scene, *hits_from, ray_options);
-        print_view(view, !args.camera.empty());
-        const std::vector<RaySet> sets =
-            generate_ray_sets(scene, *hits_from, view, set_names, ray_options, args.threads);
+        std::vector<RaySet> sets;
+        if (!set_names.empty()) {
+            const RaySetView view = ray_set_view(scene, *hits_from, ray_options);
+            print_view(view, !args.camera.empty());
+            sets = generate_ray_sets(scene, *hits_from, view, set_names, ray_options, args.threads);
+        }
+        for (const std::string& f : args.ray_files) sets.push_back(file_ray_set(f, false, args.threads));
+        for (const std::string& f : args.any_ray_files) sets.push_back(file_ray_set(f, true, args.threads));
         std::string counts;
         for (const RaySet& s : sets) {
             if (!counts.empty()) counts += ", ";
@@ -182,9 +224,19 @@ Command add_bench_command(CLI::App& app) {
                     "structure spec to measure (repeatable); `all` = every registered variant (`thicket accels`); "
                     "default bvh")
         ->type_name("SPEC");
-    cmd->add_option("--sets", args->sets, "comma-separated ray sets: primary, shadow, diffuse, random")
+    cmd->add_option("--sets", args->sets,
+                    "comma-separated ray sets: primary, shadow, diffuse, random (with --rays or --any-rays: none "
+                    "unless given)")
         ->default_str("primary,shadow,diffuse,random")
-        ->type_name("LIST");
+        ->type_name("LIST")
+        ->each([args](const std::string&) { args->sets_given = true; });
+    cmd->add_option("--rays", args->ray_files,
+                    "also measure your own rays, traced for the closest hit: a .npy float32 array (N, 8) of ox oy "
+                    "oz dx dy dz tmin tmax, as `thicket trace` reads (repeatable; one SCENE)")
+        ->type_name("FILE.npy");
+    cmd->add_option("--any-rays", args->any_ray_files,
+                    "the same, traced for any hit (occlusion), as the shadow set")
+        ->type_name("FILE.npy");
     cmd->add_option("-s,--size", args->size, "image size of the primary set; random has WIDTH*HEIGHT rays")
         ->default_str("320x240")
         ->type_name("WxH");

@@ -4,7 +4,13 @@
 /// its triangles in order (polygons fan-triangulated in order), every other shape one id, so the
 /// ids of a JSON scene interleave triangles and shapes. Scenes without shapes (every mesh
 /// format) have ids equal to triangle indices.
+///
+/// Geometries group the ids by what added them: each add_mesh / add_shape / add_shapes call is
+/// one geometry, numbered in call order, holding a contiguous range of ids (Open3D's
+/// add_triangles and geometry_ids, Embree's geometries). The structures see only primitive ids;
+/// a front end asks geometry_of() to report which geometry a hit or closest point is on.
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -15,6 +21,13 @@
 
 namespace thicket {
 
+/// The primitive ids [first, first + count) that one add_* call appended; its index in
+/// Scene::geometries is its id.
+struct Geometry {
+    uint32_t first = 0;
+    uint32_t count = 0;
+};
+
 struct Scene {
     std::string name;    ///< file path or built-in name, for messages
     TriangleMesh mesh;   ///< every triangle, in id order
@@ -22,6 +35,10 @@ struct Scene {
     /// How ids interleave triangles and shapes, ascending. Empty: the triangles' ids come first,
     /// then the shapes' (so a scene filled by assigning mesh and shapes directly is valid).
     std::vector<PrimRun> runs;
+    /// Every geometry in id order; their ranges are adjacent and ascending and cover every id.
+    /// Empty: one geometry (id 0) holds every primitive, so a scene filled by assigning mesh and
+    /// shapes directly is valid.
+    std::vector<Geometry> geometries;
 
     size_t primitive_count() const { return mesh.triangle_count() + shapes.size(); }
     bool has_shapes() const { return !shapes.empty(); }
@@ -38,10 +55,22 @@ struct Scene {
     /// (use normal()).
     Vec3 geometric_normal(uint32_t prim) const;
 
-    /// Appends a mesh's triangles (with their materials) as the next ids, in order.
-    void add_mesh(const TriangleMesh& m);
-    /// Appends one shape as the next id.
-    void add_shape(const Shape& s);
+    /// Appends a mesh's triangles (with their materials) as the next ids, in order, as a new
+    /// geometry; returns its id.
+    uint32_t add_mesh(const TriangleMesh& m);
+    /// Appends one shape as the next id, as a new geometry; returns its id.
+    uint32_t add_shape(const Shape& s);
+    /// Appends shapes as the next ids, in order, as one new geometry (a set of Bezier patches,
+    /// of spheres); returns its id.
+    uint32_t add_shapes(std::span<const Shape> s);
+
+    /// Number of geometries: geometries.size(), or 1 when that is empty and the scene is not.
+    size_t geometry_count() const;
+    /// The id range of geometry `id` (< geometry_count()).
+    Geometry geometry(uint32_t id) const;
+    /// Id of the geometry that holds primitive `prim`; kNoPrim for prim >= primitive_count()
+    /// (a miss stays a miss).
+    uint32_t geometry_of(uint32_t prim) const;
 
     /// 64-bit fingerprint of the geometry (FNV-1a over every triangle's vertex bits, then every
     /// shape's type and parameters and the id order), so saved structures can refuse to be used
