@@ -5,39 +5,12 @@
 
 namespace thicket {
 
-namespace {
-
-// Appends "key": value pairs to one JSON object.
-class ObjectWriter {
-public:
-    explicit ObjectWriter(std::string& out) : out_(out) { out_ += "{"; }
-    void close() { out_ += "}"; }
-
-    void raw(const char* key, const std::string& value) {
-        if (!first_) out_ += ", ";
-        first_ = false;
-        out_ += json_quote(key) + ": " + value;
-    }
-    void str(const char* key, const std::string& v) { raw(key, json_quote(v)); }
-    void boolean(const char* key, bool v) { raw(key, v ? "true" : "false"); }
-    void integer(const char* key, unsigned long long v) { raw(key, std::to_string(v)); }
-    void number(const char* key, double v) {
-        if (!std::isfinite(v)) return raw(key, "null");
-        char buf[40];
-        std::snprintf(buf, sizeof buf, "%.9g", v);
-        raw(key, buf);
-    }
-    void optional(const char* key, const std::optional<double>& v) {
-        if (v) return number(key, *v);
-        raw(key, "null");
-    }
-
-private:
-    std::string& out_;
-    bool first_ = true;
-};
-
-}  // namespace
+std::string JsonObjectWriter::number_text(double v) {
+    if (!std::isfinite(v)) return "null";
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.9g", v);
+    return buf;
+}
 
 std::string json_quote(std::string_view s) {
     std::string out = "\"";
@@ -69,7 +42,7 @@ std::string bench_rows_json(std::span<const BenchRow> rows) {
     for (size_t i = 0; i < rows.size(); ++i) {
         const BenchRow& r = rows[i];
         out += i ? ",\n  " : "\n  ";
-        ObjectWriter o(out);
+        JsonObjectWriter o(out);
         o.str("scene", r.scene);
         o.integer("primitives", r.primitives);
         o.integer("shapes", r.shapes);

@@ -185,38 +185,13 @@ std::string scene_section(const std::vector<const CompareRow*>& rows, const Comp
     return out;
 }
 
-// Appends "key": value pairs to one JSON object.
-class ObjectWriter {
-public:
-    explicit ObjectWriter(std::string& out) : out_(out) { out_ += "{"; }
-    void close() { out_ += "}"; }
-    void raw(const char* key, const std::string& value) {
-        out_ += first_ ? "" : ", ";
-        first_ = false;
-        out_ += json_quote(key) + ": " + value;
-    }
-    void str(const char* key, const std::string& v) { raw(key, json_quote(v)); }
-    void integer(const char* key, unsigned long long v) { raw(key, std::to_string(v)); }
-    void number(const char* key, double v) { raw(key, number_text(v)); }
-    static std::string number_text(double v) {
-        if (!std::isfinite(v)) return "null";
-        char buf[40];
-        std::snprintf(buf, sizeof buf, "%.9g", v);
-        return buf;
-    }
-
-private:
-    std::string& out_;
-    bool first_ = true;
-};
-
 std::string growth_json(const Growth& g) {
     std::string out;
-    ObjectWriter o(out);
+    JsonObjectWriter o(out);
     std::string points = "[";
     for (const GrowthPoint& p : g.points) {
         if (points.size() > 1) points += ", ";
-        ObjectWriter po(points);
+        JsonObjectWriter po(points);
         po.integer("n", p.n);
         po.number("build_ms", p.build_ms);
         po.integer("builds", (unsigned long long)p.builds);
@@ -258,10 +233,10 @@ std::string format_compare_tables(std::span<const CompareRow> rows, const Compar
 
 std::string compare_json(std::span<const CompareRow> rows, const CompareSettings& settings) {
     std::string out;
-    ObjectWriter doc(out);
+    JsonObjectWriter doc(out);
     std::string s;
     {
-        ObjectWriter o(s);
+        JsonObjectWriter o(s);
         std::string sizes = "[";
         for (size_t n : settings.growth.sizes) sizes += (sizes.size() > 1 ? ", " : "") + std::to_string(n);
         o.raw("growth_sizes", settings.growth_measured ? sizes + "]" : "null");
@@ -279,7 +254,7 @@ std::string compare_json(std::span<const CompareRow> rows, const CompareSettings
     for (size_t i = 0; i < rows.size(); ++i) {
         const CompareRow& r = rows[i];
         list += i ? ",\n  " : "\n  ";
-        ObjectWriter o(list);
+        JsonObjectWriter o(list);
         o.str("scene", r.scene);
         o.integer("primitives", r.primitives);
         o.integer("shapes", r.shapes);
