@@ -28,6 +28,8 @@ void fill_stats(AccelStats& s, const StatsFigures& f) {
                                                       "% of lanes used)");
         s.extra.emplace_back("degenerate dropped", std::to_string(f.dropped));
     }
+    // Counted, not structural: the proof that coherent batches took the packet path (tests, CI).
+    s.extra.emplace_back("packet rays", std::to_string(f.packet_rays));
     // More references than primitives: spatial splits (builder=sbvh) list some in several leaves.
     s.extra.emplace_back("references", reference_figure(f.references, f.primitives));
 }

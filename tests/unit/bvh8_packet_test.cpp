@@ -53,6 +53,14 @@ void expect_batch_is_single_ray(const Accel& accel, const std::vector<Ray>& rays
     EXPECT_GT(hits, rays.size() / 10) << what << ": the rays must hit something to test anything";
 }
 
+/// The rays a bvh8's packet kernels have answered (stats()' "packet rays").
+uint64_t packet_rays(const Accel& accel) {
+    for (const auto& [key, value] : accel.stats().extra)
+        if (key == "packet rays") return std::stoull(value);
+    ADD_FAILURE() << accel.spec() << " reports no packet rays";
+    return 0;
+}
+
 std::vector<std::string> every_isa(const std::string& options) {
     std::vector<std::string> specs;
     for (bvh8::Isa isa : bvh8::cpu_isas())
@@ -71,7 +79,14 @@ TEST(Bvh8Packets, CameraTilesAnswerAsSingleRays) {
         for (const std::string& spec : every_isa(std::string("isect=") + isect)) {
             const auto accel = build_accel(spec, scene);
             expect_batch_is_single_ray(*accel, tiled_camera_rays(corner, 64, 48), "corner view");
+            // Nearly every corner tile shares one octant (a few hold a zero direction component):
+            // the packet kernel answered nearly all of them.
+            const uint64_t corner_packets = packet_rays(*accel);
+            EXPECT_GE(corner_packets, 64u * 48u * 9 / 10) << spec;
             expect_batch_is_single_ray(*accel, tiled_camera_rays(front, 67, 45), "front view");
+            const uint64_t front_packets = packet_rays(*accel) - corner_packets;
+            EXPECT_GT(front_packets, 0u) << spec << ": most front tiles are packets too";
+            EXPECT_LT(front_packets, 67u * 45u) << spec << ": tiles on the image's axes fall back";
         }
 }
 
@@ -137,6 +152,11 @@ TEST(Bvh8Packets, PacketsOffIsTheSameAnswer) {
     on->intersect(rays, a, hint);
     off->intersect(rays, c, hint);
     for (size_t i = 0; i < rays.size(); ++i) ASSERT_EQ(a[i].t, c[i].t) << "ray " << i;
+    // The comparison means something only if the packets ran, and only where they were asked for.
+    EXPECT_EQ(packet_rays(*on), rays.size());
+    EXPECT_EQ(packet_rays(*off), 0u);
+    on->intersect(rays, a);  // not marked coherent: ray by ray
+    EXPECT_EQ(packet_rays(*on), rays.size());
 }
 
 TEST(AccelBatch, SpansOfDifferentSizesAreAnError) {

@@ -9,6 +9,7 @@
 /// stats.h, and the queries' baseline sides: isa.h (the kernels' choice), packets.h,
 /// closest_point.h.
 #include <algorithm>
+#include <atomic>
 #include <ostream>
 #include <span>
 #include <type_traits>
@@ -190,7 +191,8 @@ public:
                              .blocks = kBlocks,
                              .block_count = blocks_.size(),
                              .lanes = kept_,
-                             .dropped = dropped_});
+                             .dropped = dropped_,
+                             .packet_rays = packet_rays_.load(std::memory_order_relaxed)});
         return s;
     }
 
@@ -207,15 +209,18 @@ protected:
     /// direction component) go through the packet kernel; others, and incoherent batches, ray by ray.
     void intersect_chunk(std::span<const Ray> rays, std::span<Hit> hits, bool coherent) const override {
         if (!coherent || !packets_ || tree_.nodes.empty()) return Accel::intersect_chunk(rays, hits, coherent);
+        uint64_t in_packets = 0;
         for (size_t begin = 0; begin < rays.size(); begin += bvh8::kPacketSize) {
             const uint32_t count = uint32_t(std::min<size_t>(bvh8::kPacketSize, rays.size() - begin));
             if (count > 1 && bvh8::packet_eligible(&rays[begin], count)) {
                 kernels_->packet_closest[kLeafKind](ctx_, &rays[begin], count, &hits[begin]);
+                in_packets += count;
             } else {
                 NoCounters none;
                 for (size_t i = begin; i < begin + count; ++i) hits[i] = closest(rays[i], none);
             }
         }
+        if (in_packets) packet_rays_.fetch_add(in_packets, std::memory_order_relaxed);  // once a chunk
     }
 
 private:
@@ -258,6 +263,7 @@ private:
     size_t dropped_ = 0;     ///< degenerate triangles, never in the blocks rays see
     size_t references_ = 0;  ///< entries of the binary tree's leaves
     bool packets_ = true;
+    mutable std::atomic<uint64_t> packet_rays_{0};  ///< stats()' "packet rays"
     bvh8::Tree tree_;
     bvh8::Blocks blocks_;         ///< leaf storage of block leaves (kBlocks)
     std::vector<uint32_t> ids_;   ///< leaf storage of callback leaves

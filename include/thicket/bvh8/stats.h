@@ -2,6 +2,7 @@
 /// What a bvh8 reports (`thicket info`, AccelStats): the tree's figures, its memory and, for
 /// triangle scenes, how full the 4-triangle blocks are.
 #include <cstddef>
+#include <cstdint>
 
 #include "thicket/accel/accel.h"
 #include "thicket/bvh8/build.h"
@@ -21,6 +22,7 @@ struct StatsFigures {
     size_t block_count = 0;      ///< blocks rays see
     size_t lanes = 0;            ///< their lanes filled
     size_t dropped = 0;          ///< degenerate triangles, never stored in those blocks
+    uint64_t packet_rays = 0;    ///< rays the packet kernels have answered so far
 };
 
 /// Fills `s` (base_stats() already in it) from the figures.

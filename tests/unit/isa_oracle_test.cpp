@@ -1,0 +1,135 @@
+// The bvh8 kernels' choice judged by oracles that do not ask the code under test: the CPU flags
+// that Linux reports (/proc/cpuinfo), and THICKET_EXPECT_ISA, the level a run demands (set by
+// scripts/ctest-checked from scripts/expected-isa, which reads the same flags in the shell, or by
+// hand to demand a level of a CI machine). A broken detection, or a machine that silently lacks
+// AVX-512, then fails here instead of shrinking every per-ISA loop without a word.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "thicket/accel/registry.h"
+#include "thicket/bvh8/isa.h"
+#include "thicket/render/camera.h"
+#include "thicket/scene/scene.h"
+
+using namespace thicket;
+
+namespace {
+
+/// The first "flags" line of /proc/cpuinfo as a set; empty when there is none.
+std::set<std::string> linux_cpu_flags() {
+    std::ifstream in("/proc/cpuinfo");
+    std::string line;
+    while (std::getline(in, line))
+        if (line.rfind("flags", 0) == 0) {
+            std::istringstream words(line.substr(line.find(':') + 1));
+            std::set<std::string> flags;
+            for (std::string w; words >> w;) flags.insert(w);
+            return flags;
+        }
+    return {};
+}
+
+/// The levels those flags allow, lowest first, by what each level's kernels are compiled with
+/// (cmake/bvh8_isa.cmake): written from the flags' names, not from isa.cpp's checks.
+std::vector<std::string> levels_allowed(const std::set<std::string>& f) {
+    auto has = [&](std::initializer_list<const char*> names) {
+        for (const char* n : names)
+            if (!f.count(n)) return false;
+        return true;
+    };
+    std::vector<std::string> levels = {"scalar", "sse"};
+    if (has({"avx2", "fma", "bmi1", "bmi2", "abm", "popcnt"})) {
+        levels.push_back("avx2");
+        if (has({"avx512f", "avx512vl"})) levels.push_back("avx512");
+    }
+    return levels;
+}
+
+std::string value_of(const Accel& accel, const std::string& key) {
+    for (const auto& [k, v] : accel.stats().extra)
+        if (k == key) return v;
+    return "(none)";
+}
+
+/// Sets THICKET_ISA to `value` (unset when empty) for its lifetime, then puts back what was there.
+class IsaCap {
+public:
+    explicit IsaCap(const char* value) {
+        if (const char* old = std::getenv("THICKET_ISA")) saved_ = old, had_ = true;
+        if (*value)
+            setenv("THICKET_ISA", value, 1);
+        else
+            unsetenv("THICKET_ISA");
+    }
+    ~IsaCap() {
+        if (had_)
+            setenv("THICKET_ISA", saved_.c_str(), 1);
+        else
+            unsetenv("THICKET_ISA");
+    }
+
+private:
+    std::string saved_;
+    bool had_ = false;
+};
+
+/// Coherent camera rays from inside the Cornell box towards a corner: every 4x4 tile shares one
+/// direction octant, so a batch of them is all packets.
+std::vector<Ray> corner_rays(const Scene& scene) {
+    const Aabb b = scene.bounds();
+    const Camera camera(b.center(), b.max, {0, 1, 0}, 50.0f);
+    std::vector<Ray> rays;
+    for (int by = 0; by < 32; by += 4)
+        for (int bx = 0; bx < 32; bx += 4)
+            for (int y = by; y < by + 4; ++y)
+                for (int x = bx; x < bx + 4; ++x) rays.push_back(camera.generate(float(x) + 0.5f, float(y) + 0.5f, 32, 32));
+    return rays;
+}
+
+}  // namespace
+
+TEST(IsaOracle, DetectionAgreesWithTheCpuFlagsLinuxReports) {
+    const std::set<std::string> flags = linux_cpu_flags();
+    if (flags.empty()) GTEST_SKIP() << "/proc/cpuinfo has no flags line here: no independent oracle";
+    std::vector<std::string> detected;
+    for (bvh8::Isa isa : bvh8::cpu_isas()) detected.push_back(bvh8::isa_name(isa));
+    EXPECT_EQ(detected, levels_allowed(flags));
+}
+
+TEST(IsaOracle, TheExpectedKernelsAreChosenAndRun) {
+    const char* expected = std::getenv("THICKET_EXPECT_ISA");
+    if (!expected || !*expected)
+        GTEST_SKIP() << "THICKET_EXPECT_ISA is not set (scripts/ctest-checked sets it from scripts/expected-isa)";
+    const IsaCap uncapped("");  // the CPU's own choice, whatever the caller's THICKET_ISA says
+    EXPECT_STREQ(bvh8::isa_name(bvh8::cpu_best_isa()), expected);
+
+    // The structure a user gets (isa=auto) holds the expected level's kernel table, and a coherent
+    // batch went through that table's packet kernel.
+    const Scene scene = load_scene("cornell");
+    const std::vector<Ray> rays = corner_rays(scene);
+    const auto accel = build_accel("bvh8", scene);
+    EXPECT_EQ(value_of(*accel, "isa"), expected);
+    std::vector<Hit> hits(rays.size());
+    BatchOptions coherent;
+    coherent.coherent = true;
+    accel->intersect(rays, hits, coherent);
+    EXPECT_EQ(value_of(*accel, "packet rays"), std::to_string(rays.size()));
+}
+
+TEST(IsaOracle, ThicketIsaCapsTheChoiceAndNothingElse) {
+    // THICKET_ISA=sse gives the SSE kernels to isa=auto, and an explicit level still gets its own.
+    const Scene scene = load_scene("cornell");
+    {
+        const IsaCap cap("sse");
+        EXPECT_EQ(value_of(*build_accel("bvh8", scene), "isa"), "sse");
+        EXPECT_EQ(value_of(*build_accel("bvh8:isa=scalar", scene), "isa"), "scalar");
+    }
+    const IsaCap none("");
+    EXPECT_EQ(value_of(*build_accel("bvh8", scene), "isa"), bvh8::isa_name(bvh8::cpu_best_isa()));
+}
