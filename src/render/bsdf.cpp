@@ -91,6 +91,7 @@ SurfaceMaterial surface_from_material(const Material& mtl) {
         m = lambert(mtl.diffuse);
     }
     m.emission = mtl.emission;
+    m.name = mtl.name;
     return m;
 }
 

@@ -2,12 +2,67 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <mutex>
+#include <set>
 
+#include "thicket/core/error.h"
 #include "thicket/render/sampling.h"
+#include "thicket/scene/material_ranges.h"
 
 namespace thicket {
 
+namespace {
+
+std::string material_label(const RenderScene& rs, uint32_t index) {
+    const std::string& name = rs.materials[index].name;
+    std::string label(1, name.empty() ? '#' : '\'');  // built by appending: GCC 12 warns (-Wrestrict) on "#" + string
+    label += name.empty() ? std::to_string(index) : name + "'";
+    return label;
+}
+
+/// Writes `message` to stderr the first time this process sees it: a LightSet is built for every
+/// pass of a progressive render, and its note should appear once.
+void say_once(const std::string& message) {
+    static std::mutex mutex;
+    static std::set<std::string> said;
+    const std::lock_guard lock(mutex);
+    if (said.insert(message).second) std::cerr << message << '\n';
+}
+
+/// Twice the area of triangle (a, b, c), in double: float coordinates whose differences overflow
+/// float (and a cross product that overflows float) still give a finite area.
+double double_area(Vec3 a, Vec3 b, Vec3 c) {
+    const double e1[3] = {double(b.x) - a.x, double(b.y) - a.y, double(b.z) - a.z};
+    const double e2[3] = {double(c.x) - a.x, double(c.y) - a.y, double(c.z) - a.z};
+    const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    return std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
+
+}  // namespace
+
+void check_emitters(const RenderScene& rs) {
+    for (uint32_t i = 0; i < rs.materials.size(); ++i) {
+        const Vec3 e = rs.materials[i].emission;
+        for (int c = 0; c < 3; ++c)
+            if (const std::string why = material_value_problem(MaterialParam::Emission, e[c]); !why.empty())
+                throw Error("render: material " + material_label(rs, i) + ": emission[" + std::to_string(c) + "]: " + why);
+    }
+    for (size_t i = 0; i < rs.point_lights.size(); ++i) {
+        const Vec3 v = rs.point_lights[i].intensity;
+        for (int c = 0; c < 3; ++c)
+            if (!(v[c] >= 0.0f && double(v[c]) <= kMaxPointIntensity)) {
+                char got[32];
+                std::snprintf(got, sizeof got, "%g", double(v[c]));
+                throw Error("render: point light " + std::to_string(i) + ": intensity[" + std::to_string(c) +
+                            "]: must be a number from 0 to 1e+20, got " + got);
+            }
+    }
+}
+
 LightSet::LightSet(const RenderScene& rs) {
+    check_emitters(rs);
     const Scene& scene = *rs.scene;
     light_of_prim_.assign(scene.primitive_count(), kNoPrim);
     std::vector<double> power;
@@ -25,19 +80,26 @@ LightSet::LightSet(const RenderScene& rs) {
             l.a = scene.mesh.vertex(ref.index, 0);
             l.e1 = scene.mesh.vertex(ref.index, 1) - l.a;
             l.e2 = scene.mesh.vertex(ref.index, 2) - l.a;
-            l.radius_or_area = 0.5f * length(cross(l.e1, l.e2));
-            area = l.radius_or_area * (l.two_sided ? 2.0 : 1.0);
+            const double one_side = 0.5 * double_area(l.a, scene.mesh.vertex(ref.index, 1), scene.mesh.vertex(ref.index, 2));
+            l.radius_or_area = float(one_side);  // infinite for a float-overflowing triangle: its pdf is 0
+            area = one_side * (l.two_sided ? 2.0 : 1.0);
         } else if (const auto* s = std::get_if<Sphere>(&scene.shapes[ref.index])) {
             l.kind = Kind::Sphere;
             l.a = s->center;
             l.radius_or_area = s->radius;
             area = 4.0 * double(kPi) * double(s->radius) * double(s->radius);
         } else {
-            continue;  // other emissive shapes glow when hit but are not sampled
+            // Other emissive shapes glow when hit but are not sampled: a scene lit only by them
+            // converges slowly, so say so.
+            say_once("render: material " + material_label(rs, rs.prim_material[p]) + " emits on a " +
+                     shape_name(scene.shapes[ref.index]) +
+                     ", which is not sampled as a light (only triangles and spheres are); it glows where rays hit it");
+            continue;
         }
         if (!(area > 0.0)) continue;
         light_of_prim_[p] = uint32_t(lights_.size());
         lights_.push_back(l);
+        // Finite: area < 1e78 in double for float coordinates, luminance <= kMaxEmission (checked).
         power.push_back(double(kPi) * area * std::max(1e-9, double(luminance(m.emission))));
     }
     for (const PointLight& pl : rs.point_lights) {
@@ -51,6 +113,7 @@ LightSet::LightSet(const RenderScene& rs) {
     }
     double total = 0.0;
     for (double w : power) total += w;
+    total_power_ = total;
     double running = 0.0;
     for (double w : power) {
         running += w;
@@ -156,6 +219,44 @@ float LightSet::pdf(Vec3 p, Vec3 wi, uint32_t prim, Vec3 y, Vec3 n_y) const {
     if (!(cos_l > 0.0f)) return 0.0f;
     const Vec3 d = y - p;
     return pick * dot(d, d) / (cos_l * 4.0f * kPi * r * r);
+}
+
+
+std::string add_automatic_light(RenderScene& rs, const Accel& accel, const Camera& camera, int width, int height) {
+    if (!LightSet(rs).empty()) return "";
+    if (width < 1 || height < 1) throw Error("automatic light: image size must be at least 1x1");
+    // What the camera sees, not the scene's bounds, sets the distance: a huge ground sphere puts
+    // the bounds' centre a thousand units away while the camera looks at things a few units off.
+    constexpr int kProbe = 32;
+    std::vector<float> distances;
+    for (int j = 0; j < kProbe; ++j)
+        for (int i = 0; i < kProbe; ++i) {
+            const Ray ray = camera.generate((float(i) + 0.5f) * float(width) / kProbe,
+                                            (float(j) + 0.5f) * float(height) / kProbe, width, height);
+            const Hit hit = accel.intersect(ray);
+            if (hit.found() && std::isfinite(hit.t) && hit.t > 0.0f) distances.push_back(hit.t);
+        }
+    float d = 0.0f;
+    if (!distances.empty()) {
+        const auto quarter = distances.begin() + std::ptrdiff_t(distances.size() / 4);
+        std::nth_element(distances.begin(), quarter, distances.end());
+        d = *quarter;
+    } else {
+        d = length(rs.scene->bounds().center() - camera.position());
+    }
+    if (!std::isfinite(d) || d < 1e-3f) d = 1e-3f;
+    PointLight light;
+    light.position = camera.position() + camera.up() * (0.05f * d);
+    // Radiance of a white (albedo 0.8) Lambertian facing the light at distance d: 0.8 / pi * I / d^2 = 0.5.
+    light.intensity = Vec3{float(std::min(2.0 * double(d) * double(d), kMaxPointIntensity))};
+    rs.point_lights.push_back(light);
+    char line[200];
+    std::snprintf(line, sizeof line,
+                  "render: the scene has no light: added a point light at the camera, intensity %g (2 d^2, d = %g: "
+                  "the nearer quarter of the visible surfaces)",
+                  double(light.intensity.x), double(d));
+    std::cerr << line << '\n';
+    return line;
 }
 
 }  // namespace thicket

@@ -8,6 +8,7 @@
 
 #include "thicket/core/error.h"
 #include "thicket/scene/loaders.h"
+#include "thicket/scene/material_ranges.h"
 
 namespace thicket {
 
@@ -41,19 +42,37 @@ struct Reader {
     }
 };
 
-SurfaceMaterial parse_material(const json& m, const Reader& r) {
+/// A material parameter, checked against the shared table (thicket/scene/material_ranges.h).
+double material_number(const json& v, const std::string& key, MaterialParam p, const Reader& r) {
+    if (!v.is_number()) r.fail(key, "must be a number, got " + v.dump());
+    const double x = v.get<double>();
+    if (const std::string why = material_value_problem(p, x); !why.empty()) r.fail(key, why);
+    return x;
+}
+
+/// A material colour: [r, g, b] or one number for grey, each channel checked against the table.
+Vec3 material_colour(const json& v, const std::string& key, MaterialParam p, const Reader& r) {
+    if (v.is_number()) return Vec3{float(material_number(v, key, p, r))};
+    if (!v.is_array() || v.size() != 3) r.fail(key, "must be [r, g, b] or one number, got " + v.dump());
+    double c[3];
+    for (size_t i = 0; i < 3; ++i) c[i] = material_number(v[i], key + "[" + std::to_string(i) + "]", p, r);
+    return {float(c[0]), float(c[1]), float(c[2])};
+}
+
+SurfaceMaterial parse_material(const json& m, const std::string& name, const Reader& r) {
     if (!m.is_object()) r.fail("", "a material must be an object of MTL-style fields (kd, ks, ke, ns, ni, d, illum)");
     Material mtl;
+    mtl.name = name;
     mtl.diffuse = Vec3{0.8f};
     bool two_sided = false;
     for (const auto& [key, v] : m.items()) {
-        if (key == "kd") mtl.diffuse = r.colour(v, key);
-        else if (key == "ks") mtl.specular = r.colour(v, key);
-        else if (key == "ke") mtl.emission = r.colour(v, key);
-        else if (key == "ns") mtl.shininess = r.number(v, key);
-        else if (key == "ni") mtl.ior = r.number(v, key);
-        else if (key == "d") mtl.dissolve = r.number(v, key);
-        else if (key == "illum") mtl.illum = int(r.number(v, key));
+        if (key == "kd") mtl.diffuse = material_colour(v, key, MaterialParam::Diffuse, r);
+        else if (key == "ks") mtl.specular = material_colour(v, key, MaterialParam::Specular, r);
+        else if (key == "ke") mtl.emission = material_colour(v, key, MaterialParam::Emission, r);
+        else if (key == "ns") mtl.shininess = float(material_number(v, key, MaterialParam::Shininess, r));
+        else if (key == "ni") mtl.ior = float(material_number(v, key, MaterialParam::Ior, r));
+        else if (key == "d") mtl.dissolve = float(material_number(v, key, MaterialParam::Dissolve, r));
+        else if (key == "illum") mtl.illum = int(material_number(v, key, MaterialParam::Illum, r));  // whole, 0..10
         else if (key == "two_sided") {
             if (!v.is_boolean()) r.fail(key, "must be true or false");
             two_sided = v.get<bool>();
@@ -61,7 +80,6 @@ SurfaceMaterial parse_material(const json& m, const Reader& r) {
             r.fail(key, "unknown material field (fields: kd, ks, ke, ns, ni, d, illum, two_sided)");
         }
     }
-    if (!(mtl.ior > 0.0f)) r.fail("ni", "must be > 0");
     SurfaceMaterial s = surface_from_material(mtl);
     s.two_sided = two_sided;
     return s;
@@ -88,7 +106,7 @@ void apply_json_render_settings(const std::string& path, RenderScene& rs) {
         const json& mats = doc.at("materials");
         if (!mats.is_object()) throw Error(path + ": 'materials' must be an object of named materials");
         for (const auto& [name, m] : mats.items()) {
-            rs.materials.push_back(parse_material(m, Reader{path + ": materials." + name}));
+            rs.materials.push_back(parse_material(m, name, Reader{path + ": materials." + name}));
             by_name[name] = uint32_t(rs.materials.size() - 1);
         }
     }

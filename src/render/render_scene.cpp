@@ -4,6 +4,7 @@
 
 #include "thicket/core/error.h"
 #include "thicket/render/sampling.h"
+#include "thicket/scene/material_ranges.h"
 
 namespace thicket {
 
@@ -12,7 +13,13 @@ RenderScene make_render_scene(const Scene& scene) {
     rs.scene = &scene;
     rs.materials.push_back(lambert(Vec3{0.8f}));
     const size_t first_mesh_material = rs.materials.size();
-    for (const Material& m : scene.mesh.materials) rs.materials.push_back(surface_from_material(m));
+    for (const Material& m : scene.mesh.materials) {
+        // The readers refuse values outside the material table; a material made in code is held to
+        // the same table here rather than rendered as something it does not say.
+        if (const std::string why = material_problem(m); !why.empty())
+            throw Error("render: material '" + m.name + "': " + why);
+        rs.materials.push_back(surface_from_material(m));
+    }
     const size_t prims = scene.primitive_count();
     rs.prim_material.assign(prims, 0);
     const bool has_ids = scene.mesh.material_ids.size() == scene.mesh.triangle_count();

@@ -7,6 +7,7 @@
 
 #include "thicket/core/error.h"
 #include "thicket/render/integrator.h"
+#include "thicket/render/lights.h"
 #include "thicket/render/sampling.h"
 
 namespace thicket {
@@ -64,6 +65,7 @@ inline TraceResult begin_trace(const RenderScene& rs, const TraceOptions& o) {
                     std::to_string(rs.prim_material.size()) + " material assignments");
     for (uint32_t id : rs.prim_material)
         if (id >= rs.materials.size()) throw Error("render: material index " + std::to_string(id) + " out of range");
+    check_emitters(rs);  // every integrator: an emitter beyond the bound is refused, not rendered black
     constexpr int kMaxSide = 32768;
     if (o.width < 1 || o.height < 1 || o.width > kMaxSide || o.height > kMaxSide)
         throw Error("render: image size " + std::to_string(o.width) + "x" + std::to_string(o.height) +

@@ -18,6 +18,7 @@
 
 #include <tiny_gltf.h>
 
+#include "gltf_materials.h"
 #include "thicket/core/error.h"
 #include "thicket/scene/loaders.h"
 #include "thicket/util/input_file.h"
@@ -85,8 +86,12 @@ class GltfReader {
 public:
     GltfReader(const std::string& path, const tinygltf::Model& model) : path_(path), model_(model) {}
 
-    TriangleMesh read() {
-        for (size_t i = 0; i < model_.materials.size(); ++i) mesh_.materials.push_back(convert(i));
+    /// The geometry, with `materials` (gltf::read_materials of the same file) as its materials.
+    TriangleMesh read(std::vector<Material> materials) {
+        if (materials.size() != model_.materials.size())
+            fail("the JSON has " + std::to_string(materials.size()) + " materials but tinygltf read " +
+                 std::to_string(model_.materials.size()));
+        mesh_.materials = std::move(materials);
         visited_.assign(model_.nodes.size(), 0);
         for (int root : roots()) walk(root);
         return std::move(mesh_);
@@ -94,49 +99,6 @@ public:
 
 private:
     [[noreturn]] void fail(const std::string& what) const { throw Error(path_ + ": " + what); }
-
-    Material convert(size_t index) const {
-        const tinygltf::Material& m = model_.materials[index];
-        Material out;
-        out.name = m.name.empty() ? "material" + std::to_string(index) : m.name;
-        const std::vector<double>& base = m.pbrMetallicRoughness.baseColorFactor;
-        if (base.size() >= 3) out.diffuse = {float(base[0]), float(base[1]), float(base[2])};
-        double strength = 1.0;
-        if (auto it = m.extensions.find("KHR_materials_emissive_strength"); it != m.extensions.end())
-            if (it->second.Has("emissiveStrength") && it->second.Get("emissiveStrength").IsNumber())
-                strength = it->second.Get("emissiveStrength").GetNumberAsDouble();
-        if (m.emissiveFactor.size() >= 3)
-            out.emission = {float(m.emissiveFactor[0] * strength), float(m.emissiveFactor[1] * strength),
-                            float(m.emissiveFactor[2] * strength)};
-        if (auto it = m.extensions.find("KHR_materials_ior"); it != m.extensions.end())
-            if (it->second.Has("ior") && it->second.Get("ior").IsNumber())
-                out.ior = float(it->second.Get("ior").GetNumberAsDouble());
-        // Metallic-roughness, to the nearest of the path tracer's materials (docs/rendering.md): the
-        // metallic share of the base colour becomes the specular colour, roughness a Phong exponent
-        // (alpha = roughness^2, n = 2 / alpha^2 - 2: rough is broad, smooth a mirror), and
-        // KHR_materials_transmission glass (glTF's ior is 1.5 unless KHR_materials_ior says).
-        // glTF's defaults (metallic 1, roughness 1) apply when the factors are absent.
-        const auto& pbr = m.pbrMetallicRoughness;
-        const float metallic = std::clamp(float(pbr.metallicFactor), 0.0f, 1.0f);
-        const float roughness = std::clamp(float(pbr.roughnessFactor), 0.0f, 1.0f);
-        if (metallic > 0.0f) {
-            const Vec3 base = out.diffuse;
-            out.diffuse = base * (1.0f - metallic);
-            out.specular = base * metallic;
-            const float alpha = std::max(roughness * roughness, 1e-3f);
-            out.shininess = 2.0f / (alpha * alpha) - 2.0f;
-        }
-        if (auto it = m.extensions.find("KHR_materials_transmission"); it != m.extensions.end())
-            if (it->second.Has("transmissionFactor") && it->second.Get("transmissionFactor").IsNumber()) {
-                const double t = it->second.Get("transmissionFactor").GetNumberAsDouble();
-                if (!(t >= 0.0 && t <= 1.0))
-                    fail("material " + std::to_string(index) + ": transmissionFactor " + std::to_string(t) +
-                         " is not between 0 and 1");
-                out.dissolve = float(1.0 - t);
-                if (t > 0.0 && out.ior == 1.0f) out.ior = 1.5f;
-            }
-        return out;
-    }
 
     /// The default scene, else scene 0, else every node that is nobody's child.
     std::vector<int> roots() const {
@@ -398,9 +360,17 @@ TriangleMesh load_gltf(const std::string& path) {
     } catch (const std::exception& e) {
         throw Error(path + ": glTF parse error: " + e.what());
     }
-    if (!ok) throw Error(path + ": " + (err.empty() ? std::string("cannot parse glTF file") : one_line(err)));
+    // Materials come from the JSON itself (gltf_materials.h), checked against the material table.
+    // tinygltf refuses some malformed factors itself (an emissiveFactor of 2 numbers) without the
+    // JSON path: when it fails, a material error, if there is one, is the more useful message.
+    const bool glb = has_extension(path, ".glb");
+    if (!ok) {
+        if (const std::string material = gltf::material_error(bytes, glb, path); !material.empty()) throw Error(material);
+        throw Error(path + ": " + (err.empty() ? std::string("cannot parse glTF file") : one_line(err)));
+    }
     if (!warn.empty()) std::cerr << path << ": warning: " << one_line(warn) << '\n';
-    return GltfReader(path, model).read();
+    std::vector<Material> materials = gltf::read_materials(gltf::json_text(bytes, glb, path), path);
+    return GltfReader(path, model).read(std::move(materials));
 }
 
 }  // namespace thicket

@@ -11,6 +11,7 @@
 #include <unordered_map>
 
 #include "thicket/core/error.h"
+#include "thicket/scene/material_ranges.h"
 #include "thicket/util/input_file.h"
 
 namespace thicket::obj {
@@ -204,7 +205,9 @@ private:
             return;
         }
         material_ = -1;
-        if (materials_ && !out_.materials.empty())
+        // Once a library has been read, an unknown name is worth a warning even when the library
+        // held no materials at all (that was silent, hiding a wrong or empty .mtl).
+        if (materials_ && (libraries_read_ > 0 || !out_.materials.empty()))
             out_.warnings.push_back("line " + std::to_string(line_) + ": usemtl " + shown(name) + ": no such material");
     }
 
@@ -225,6 +228,9 @@ private:
             } catch (const Error& e) {
                 fail(std::string("mtllib: ") + e.what());
             }
+            ++libraries_read_;
+            if (out_.materials.size() == first)
+                out_.warnings.push_back("material library " + shown(file, 300) + " has no materials (no newmtl)");
             for (size_t m = first; m < out_.materials.size(); ++m)
                 material_index_.emplace(out_.materials[m].name, int32_t(m));
         }
@@ -235,6 +241,7 @@ private:
     ObjData out_;
     size_t line_ = 0;
     int32_t material_ = -1;
+    size_t libraries_read_ = 0;
     std::unordered_map<std::string, int32_t> material_index_;
     struct Forward {
         int64_t value = 0;
@@ -281,20 +288,30 @@ void parse_mtl(std::string_view text, const std::string& path, std::vector<Mater
         for (size_t i = 0; i < n; ++i)
             if (!parse_number(t[i + 1], v[i])) throw Error(where + std::string(key) + " value " + shown(t[i + 1]) + " is not a number");
         if (n == 1) v[1] = v[2] = v[0];
+        // Every value against the shared table (material_ranges.h) before any conversion: a value
+        // out of float's or int's range never reaches a cast.
+        const MaterialParam param = key == "Kd"   ? MaterialParam::Diffuse
+                                    : key == "Ks" ? MaterialParam::Specular
+                                    : key == "Ke" ? MaterialParam::Emission
+                                    : key == "Ns" ? MaterialParam::Shininess
+                                    : key == "Ni" ? MaterialParam::Ior
+                                    : key == "d"  ? MaterialParam::Dissolve
+                                    : key == "Tr" ? MaterialParam::Transparency
+                                                  : MaterialParam::Illum;
+        for (size_t i = 0; i < n; ++i)
+            if (const std::string why = material_value_problem(param, v[i]); !why.empty())
+                throw Error(where + std::string(key) + (n == 1 ? "" : "[" + std::to_string(i) + "]") + ": " + why);
         const Vec3 c{float(v[0]), float(v[1]), float(v[2])};
-        if (key == "Kd") current->diffuse = c;
-        else if (key == "Ks") current->specular = c;
-        else if (key == "Ke") current->emission = c;
-        else if (key == "Ns") current->shininess = float(v[0]);
-        else if (key == "d" || key == "Tr") {
-            if (!(v[0] >= 0.0 && v[0] <= 1.0))
-                throw Error(where + std::string(key) + " " + shown(t[1]) + " is not between 0 and 1");
-            current->dissolve = float(key == "d" ? v[0] : 1.0 - v[0]);  // Tr is 1 - d
-        } else if (key == "illum") {
-            if (!(v[0] >= 0.0 && v[0] <= 10.0 && v[0] == double(int(v[0]))))
-                throw Error(where + "illum " + shown(t[1]) + " is not an illumination model 0..10");
-            current->illum = int(v[0]);
-        } else current->ior = float(v[0]);
+        switch (param) {
+            case MaterialParam::Diffuse: current->diffuse = c; break;
+            case MaterialParam::Specular: current->specular = c; break;
+            case MaterialParam::Emission: current->emission = c; break;
+            case MaterialParam::Shininess: current->shininess = float(v[0]); break;
+            case MaterialParam::Ior: current->ior = float(v[0]); break;
+            case MaterialParam::Dissolve: current->dissolve = float(v[0]); break;
+            case MaterialParam::Transparency: current->dissolve = float(1.0 - v[0]); break;  // Tr is 1 - d
+            default: current->illum = int(v[0]); break;
+        }
     }
 }
 

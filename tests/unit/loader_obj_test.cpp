@@ -57,9 +57,9 @@ TEST(LoaderObj, QuadsAndPentagonsWithMaterials) {
 
 TEST(LoaderObj, MtlOpacityAndIlluminationModelAreChecked) {
     for (const auto& [mtl, needle] : std::vector<std::pair<std::string, std::string>>{
-             {"newmtl a\nd 1.5\n", "d '1.5' is not between 0 and 1"},
-             {"newmtl a\nillum 2.5\n", "illum '2.5' is not an illumination model"},
-             {"newmtl a\nillum 11\n", "illum '11'"}}) {
+             {"newmtl a\nd 1.5\n", "d: must be a number from 0 to 1 (opacity), got 1.5"},
+             {"newmtl a\nillum 2.5\n", "illum: must be a whole number from 0 to 10 (illumination model), got 2.5"},
+             {"newmtl a\nillum 11\n", "illum: must be a whole number from 0 to 10 (illumination model), got 11"}}) {
         TempDir tmp;
         tmp.file("quads.mtl", mtl);
         try {

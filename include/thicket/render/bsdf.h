@@ -27,6 +27,7 @@ struct SurfaceMaterial {
     float ior = 1.5f;                ///< dielectric: index of refraction inside (outside is 1)
     Vec3 emission{};                 ///< radiance emitted (area lights); zero for most surfaces
     bool two_sided = false;          ///< emits on both sides (spheres); else only where n points
+    std::string name;                ///< the source material's name, for messages; may be empty
 
     /// Whether the BSDF is a Dirac delta (mirror, dielectric): no light sampling through it.
     bool delta() const { return kind == SurfaceKind::Mirror || kind == SurfaceKind::Dielectric; }

@@ -5,11 +5,35 @@
 /// in area from inside). pdf() gives the density of the same choice for a direction found by
 /// BSDF sampling, which multiple importance sampling weighs against the BSDF's density.
 #include <cstdint>
+#include <string>
 #include <vector>
 
+#include "thicket/accel/accel.h"
 #include "thicket/render/render_scene.h"
 
 namespace thicket {
+
+/// The largest point-light intensity (W/sr, per channel) the renderer takes: 1e20 lights a surface
+/// 1e7 units away as brightly as a radiance-1 sky, and still leaves every sample finite in float.
+inline constexpr double kMaxPointIntensity = 1e20;
+
+/// Throws Error unless every material of `rs` emits a radiance each of whose channels is a number
+/// from 0 to kMaxEmission (thicket/scene/material_ranges.h), and every point light an intensity
+/// from 0 to kMaxPointIntensity; the message names the material (its name, else its index) or the
+/// light. The readers refuse such values already; this holds materials made in code to the same
+/// bound, so light selection's total power is finite for every scene the renderer accepts.
+void check_emitters(const RenderScene& rs);
+
+/// When nothing in `rs` is a light LightSet samples (no emissive triangle or sphere, no point
+/// light), adds one point light for `camera` and returns a one-line description of it, which is
+/// also written to stderr; otherwise returns "" and leaves `rs` as it is. The light sits at the
+/// camera, raised by 5% of d along the camera's up vector, with intensity 2 d^2, where d is the
+/// 25th percentile of the distances at which a 32 x 32 grid of camera rays over a width x height
+/// image hits the scene (through `accel`, built over rs.scene): a white Lambertian surface facing
+/// the light at distance d then has radiance 0.5, and only the nearest quarter of what the camera
+/// sees is brighter, whatever the size of the scene's bounds (docs/rendering.md). When no probe ray
+/// hits anything, d is the distance from the camera to the centre of the scene's bounds.
+std::string add_automatic_light(RenderScene& rs, const Accel& accel, const Camera& camera, int width, int height);
 
 /// One sampled light direction from a shading point.
 struct LightSample {
@@ -23,11 +47,15 @@ struct LightSample {
 class LightSet {
 public:
     /// Collects the lights of `rs`: primitives whose material emits (triangles and spheres; other
-    /// shapes are not sampled, they only glow when hit) and the point lights.
+    /// shapes are not sampled, they only glow when hit, and stderr says so once per material) and
+    /// the point lights. Throws Error as check_emitters() does.
     explicit LightSet(const RenderScene& rs);
 
     bool empty() const { return cdf_.empty(); }
     size_t size() const { return lights_.size(); }
+    /// The sum of every light's power that the choice is proportional to (pi x area x luminance
+    /// for emitters, 4 pi x luminance for point lights); finite for every scene LightSet accepts.
+    double total_power() const { return total_power_; }
 
     /// A light direction from point `p` from three uniform numbers. False when the sample carries
     /// nothing (no lights, the back of a one-sided emitter).
@@ -50,6 +78,7 @@ private:
 
     std::vector<Light> lights_;
     std::vector<float> cdf_;                  // running sum of power, normalised to end at 1
+    double total_power_ = 0.0;
     std::vector<uint32_t> light_of_prim_;     // light index per primitive id, or kNoPrim
 };
 
