@@ -92,17 +92,8 @@ int run_light_render(const std::string& scene_name, const AccelChoice& accel_cho
     }
     const std::unique_ptr<Accel> accel = make_accel_verbose(accel_choice, spec, *scene, threads);
     if (!camera) camera = rs.camera ? *rs.camera : auto_camera(scene->bounds(), float(width) / float(height));
-    if (LightSet(rs).empty()) {
-        // Nothing emits: a point light just above the camera, bright enough that a white
-        // diffuse surface at the scene's distance comes out mid-grey, so that the image shows something.
-        const float d = std::max(1e-3f, length(scene->bounds().center() - camera->position()));
-        PointLight headlight;
-        headlight.position = camera->position() + camera->up() * (0.05f * d);
-        headlight.intensity = Vec3{2.0f * d * d};
-        rs.point_lights.push_back(headlight);
-        std::printf("lights  none in the scene: a point light at the camera (intensity %g)\n",
-                    double(headlight.intensity.x));
-    }
+    // Nothing emits: a point light at the camera sized by what the camera sees (said on stderr).
+    add_automatic_light(rs, *accel, *camera, width, height);
     std::fflush(stdout);
 
     TraceOptions options;
