@@ -142,4 +142,30 @@ FilterCheck check_against_double_reference(const Scene& scene, const std::string
     return c;
 }
 
+FilterCheck check_named_primitives(const Scene& scene, std::span<const Ray> rays, std::span<const Hit> hits) {
+    FilterCheck c;
+    for (size_t i = 0; i < rays.size(); ++i) {
+        const Hit& got = hits[i];
+        if (!got.found()) continue;
+        ++c.rays;
+        const Ray& ray = rays[i];
+        const bool named_exists = got.prim < scene.mesh.triangle_count();
+        const DoubleHit h = named_exists ? double_moller(scene, got.prim, ray) : DoubleHit{};
+        if (h.inside(ray) && std::fabs(h.t - double(got.t)) <= 1e-5 * std::max(h.scale, std::fabs(h.t))) {
+            ++c.agree;
+        } else if (named_exists && ill_conditioned(h, ray)) {
+            ++c.ill_conditioned;
+        } else {
+            ++c.unexplained;
+            if (c.first_unexplained.empty()) {
+                char buf[256];
+                std::snprintf(buf, sizeof buf, "ray %zu: prim %u at t %.9g, in double precision t %.9g u %.3g v %.3g", i,
+                              got.prim, double(got.t), h.t, h.u, h.v);
+                c.first_unexplained = buf;
+            }
+        }
+    }
+    return c;
+}
+
 }  // namespace thicket::testing

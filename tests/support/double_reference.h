@@ -29,4 +29,12 @@ struct FilterCheck {
 FilterCheck check_against_double_reference(const Scene& scene, const std::string& isect, std::span<const Ray> rays,
                                            std::span<const Hit> hits);
 
+/// The named-primitive check, one triangle per ray: every hit in `hits` must name a triangle of
+/// `scene` (no shapes) that `ray`, in double precision, crosses inside its interval at the hit's t
+/// (within 1e-5 of t's rounding scale), unless that crossing is ill-conditioned (as above). Cheap
+/// enough for every ray of a real scene, and shares no code with the structures. Counts in
+/// FilterCheck: agree = confirmed, ill_conditioned = explained, unexplained = a wrong primitive or
+/// t; misses are not counted.
+FilterCheck check_named_primitives(const Scene& scene, std::span<const Ray> rays, std::span<const Hit> hits);
+
 }  // namespace thicket::testing

@@ -16,18 +16,27 @@ struct Reference {
     std::vector<Hit> hits;
     std::vector<uint8_t> occluded;
     std::shared_ptr<const PrimitiveProbe> probe;  ///< the scene's primitives, one at a time
-    /// Rays i with i % brute_stride == 0 hold brute force's answers, the others those of the fast
-    /// reference (`bvh`), which agreed with brute force on every one of the former. 1: all brute.
+    /// Rays i with i % brute_stride == 0 hold brute force's answers; the others those of two fast
+    /// references of independent code (`bvh`, object partitioning, and `kdtree`, space
+    /// partitioning), which agreed with brute force on every one of the former, where they agree
+    /// with each other, and brute force's where they do not. 1: all brute.
     size_t brute_stride = 1;
-    /// Judges a ray on which a structure and the fast reference differ.
+    /// brute_answered[i]: ray i holds brute force's answer (on the stride, or the fast references
+    /// differed on it).
+    std::vector<uint8_t> brute_answered;
+    /// Rays off the stride on which the two fast references differed.
+    size_t fast_disagreements = 0;
+    /// Judges a ray on which a structure and the fast references differ.
     std::shared_ptr<const Accel> brute;
-    bool from_brute(size_t i) const { return i % brute_stride == 0; }
+    bool from_brute(size_t i) const { return brute_answered.empty() ? i % brute_stride == 0 : brute_answered[i] != 0; }
 };
 
 /// Answers on conformance_rays(scene, count) with the given `isect` option, cached per process
 /// under `key`: brute force's on about `brute_rays` of them spread over the set (every kind of ray)
-/// and, when that is fewer than `count`, the `bvh`'s on the rest, after it agreed with brute force
-/// on all of the former (else throws Error naming the first ray it got wrong).
+/// and, when that is fewer than `count`, on the rest those of `bvh` and `kdtree` where the two
+/// agree and brute force's where they do not, after both agreed with brute force on all of the
+/// former (else throws Error naming the first ray one got wrong). A structure that shares a bug
+/// with one of them is still judged by the other, independent one.
 const Reference& reference_for(const std::string& key, const Scene& scene, const std::string& isect, size_t count,
                                size_t brute_rays = SIZE_MAX);
 
