@@ -195,6 +195,12 @@ def test_save_refuses_the_scene_file_under_any_name(tmp_path):
     os.rename(ply, tmp_path / "moved.ply")
     with pytest.raises(ValueError, match="is the scene file"):
         accel.save(tmp_path / "moved.ply", overwrite=True)
+    # A new file at the scene's path after loading: the path named as the input, still refused.
+    write_ply(ply, *cube_arrays())
+    with pytest.raises(ValueError, match="is the scene file"):
+        accel.save(ply, overwrite=True)
+    (tmp_path / "other.ply").write_bytes(before)  # equal bytes, but another file: replaced
+    accel.save(tmp_path / "other.ply", overwrite=True)
     accel.save(tmp_path / "cube.bvh")  # another path is fine
 
 
