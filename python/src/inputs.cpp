@@ -65,6 +65,24 @@ int64_t int_argument(const py::handle& value, const char* what, int64_t lo, int6
     return v;
 }
 
+bool bool_argument(const py::handle& value, const char* what) {
+    if (value.ptr() == Py_True || value.ptr() == Py_False) return value.ptr() == Py_True;
+    if (py::isinstance(value, py::module_::import("numpy").attr("bool_"))) return PyObject_IsTrue(value.ptr()) == 1;
+    throw py::type_error(std::string(what) + " must be True or False, got " +
+                         std::string(py::str(py::type::of(value).attr("__name__"))));
+}
+
+std::optional<float> float_argument(const py::handle& value, const char* what) {
+    if (value.is_none()) return std::nullopt;
+    // A str would convert ("1.5"); a number of any kind is what is meant.
+    if (PyUnicode_Check(value.ptr()) || PyBytes_Check(value.ptr()) || !PyNumber_Check(value.ptr()))
+        throw py::type_error(std::string(what) + " must be a number or None, got " +
+                             std::string(py::str(py::type::of(value).attr("__name__"))));
+    const double v = PyFloat_AsDouble(value.ptr());
+    if (v == -1.0 && PyErr_Occurred()) throw py::error_already_set();
+    return float(v);
+}
+
 unsigned thread_count(const py::handle& nthreads) {
     return unsigned(int_argument(nthreads, "nthreads", 0, std::numeric_limits<unsigned>::max(),
                                  "0 (one thread per core) or a thread count up to 4294967295"));

@@ -39,6 +39,13 @@ void check_no_nul(const std::string& text, const char* what);
 /// function arguments" listing every argument (the rays included).
 int64_t int_argument(const py::handle& value, const char* what, int64_t lo, int64_t hi, const char* rule);
 
+/// True or False (numpy's bool_ too); anything else is a TypeError naming `what`.
+bool bool_argument(const py::handle& value, const char* what);
+
+/// None (nothing) or a real number (int, float, numpy's scalars: float(value)); anything else is
+/// a TypeError naming `what`.
+std::optional<float> float_argument(const py::handle& value, const char* what);
+
 /// nthreads as the CLI's -j takes it: 0 (one per core) or a thread count up to 2^32 - 1.
 unsigned thread_count(const py::handle& nthreads);
 

@@ -132,6 +132,16 @@ def test_bad_thread_counts_are_short_errors(cube, query, nthreads, error, messag
         getattr(accel, query)(rows, nthreads=nthreads)
 
 
+def test_other_arguments_of_the_wrong_type_are_short_errors(cube):
+    accel = thicket.build(cube, "bvh")
+    rays = np.zeros((1000, 6), np.float32)
+    with pytest.raises(TypeError, match=r"^coherent must be True or False, got str$"):
+        accel.cast_rays(rays, coherent="yes")
+    with pytest.raises(TypeError, match=r"^tfar must be a number or None, got str$"):
+        accel.test_occlusions(rays, tfar="1")
+    assert accel.test_occlusions(rays, tnear=np.float64(0.5), tfar=2, coherent=np.bool_(True)).shape == (1000,)
+
+
 def test_thread_counts_in_range_answer_alike(cube):
     accel = thicket.build(cube, "bvh")
     rays = random_rays(cube, 300)
