@@ -88,7 +88,10 @@ PYBIND11_MODULE(_thicket, m) {
 
     py::class_<Scene, std::shared_ptr<Scene>>(m, "Scene",
         "Triangles and shapes that structures are built over: Scene(vertices (V,3), triangles (T,3)) or load_scene(path)")
-        .def(py::init(&scene_from_arrays), "vertices"_a, "triangles"_a)
+        .def(py::init(&scene_from_arrays), "vertices"_a, "triangles"_a,
+             "vertices (V, 3) of any float dtype, every one finite; triangles (T, 3) of any integer dtype, every "
+             "index in 0..V-1 (ValueError quoting it otherwise). V up to 2^32, T below 2^32 - 1; a scene bigger than "
+             "the memory available is a MemoryError naming both shapes, before anything is allocated")
         .def_readonly("name", &Scene::name)
         .def_property_readonly("primitive_count", &Scene::primitive_count)
         .def_property_readonly("triangle_count", [](const Scene& s) { return s.mesh.triangle_count(); })
