@@ -135,15 +135,17 @@ PYBIND11_MODULE(_thicket, m) {
              "os.PathLike. As the CLI's outputs: an existing file is replaced only with overwrite=True "
              "(FileExistsError otherwise), and the scene file the structure was built from, or the file it was "
              "loaded from, is never replaced (ValueError), under any name")
-        .def("cast_rays", [](AccelHandle& h, const py::handle& rays, const py::handle& nthreads, bool coherent) {
-            return cast_rays(h, rays, thread_count(nthreads), coherent);
+        .def("cast_rays", [](AccelHandle& h, const py::handle& rays, const py::handle& nthreads,
+                             const py::handle& coherent) {
+            return cast_rays(h, rays, thread_count(nthreads), bool_argument(coherent, "coherent"));
         }, "rays"_a, "nthreads"_a = 0, "coherent"_a = false,
              "Closest hit of rays (..., 6) or (..., 8) float32: dict of t_hit, geometry_ids, primitive_ids, "
              "primitive_uvs, primitive_normals (Open3D's RaycastingScene.cast_rays). nthreads: 0 (one per core) "
              "or a thread count up to 2^32 - 1, as the CLI's -j; answers that do not fit in memory are a MemoryError")
-        .def("test_occlusions", [](const AccelHandle& h, const py::handle& rays, std::optional<float> tnear,
-                                   std::optional<float> tfar, const py::handle& nthreads, bool coherent) {
-            return test_occlusions(h, rays, tnear, tfar, thread_count(nthreads), coherent);
+        .def("test_occlusions", [](const AccelHandle& h, const py::handle& rays, const py::handle& tnear,
+                                   const py::handle& tfar, const py::handle& nthreads, const py::handle& coherent) {
+            return test_occlusions(h, rays, float_argument(tnear, "tnear"), float_argument(tfar, "tfar"),
+                                   thread_count(nthreads), bool_argument(coherent, "coherent"));
         }, "rays"_a, "tnear"_a = py::none(), "tfar"_a = py::none(), "nthreads"_a = 0, "coherent"_a = false,
              "Whether anything is hit: bool array of the rays' leading shape")
         .def("count_intersections", [](const AccelHandle& h, const py::handle& rays, const py::handle& nthreads) {
