@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "thicket/accel/accel.h"
 #include "inputs.h"
+#include "thicket/accel/accel.h"
 #include "thicket/core/huge_pages.h"
 
 namespace thicket::python {
@@ -61,7 +61,7 @@ void check_answer_memory(const Rows& rows, size_t bytes_per_row, const char* que
     for (const py::ssize_t n : rows.lead) shape += std::to_string(n) + ", ";
     shape += std::to_string(rows.width) + ")";
     check_allocation(bytes_of(rows.count, bytes_per_row),
-                     std::string(query) + ": the answers for an array of shape " + shape);
+                     std::string(query) + ": answering an array of shape " + shape);
 }
 
 void check_interval_arguments(const Rows& rows, std::optional<float> tnear, std::optional<float> tfar) {

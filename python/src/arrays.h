@@ -61,7 +61,7 @@ inline void stream_fence() {
 #endif
 }
 
-/// MemoryError "<query>: the answers for an array of shape (...) need ..." unless `bytes_per_row`
+/// MemoryError "<query>: answering an array of shape (...) needs ..." unless `bytes_per_row`
 /// for every row of `rows` fits in the memory available (check_allocation): called before a
 /// query allocates its output arrays.
 void check_answer_memory(const Rows& rows, size_t bytes_per_row, const char* query);

@@ -117,7 +117,7 @@ struct CastOutputs {
 
 py::dict cast_rays(AccelHandle& h, const py::handle& rays_obj, unsigned threads, bool coherent) {
     const Rows rows = float32_rows(rays_obj, "rays", {6, 8});
-    check_answer_memory(rows, 32, "cast_rays");
+    check_answer_memory(rows, 4 + 4 + 4 + 8 + 12, "cast_rays");  // t, two ids, uv, normal
     const std::shared_ptr<const std::vector<Vec3>> normal_table = triangle_normals(h, threads);
     const Vec3* table = normal_table && normal_table->size() > 2 ? normal_table->data() : nullptr;
     const uint32_t miss_entry = normal_table ? uint32_t(normal_table->size() - 2) : 0;
@@ -292,7 +292,7 @@ py::dict list_intersections(const AccelHandle& h, const py::handle& rays_obj, un
 
 py::dict compute_closest_points(AccelHandle& h, const py::handle& points_obj, unsigned threads) {
     const Rows rows = query_points(points_obj);
-    check_answer_memory(rows, 40, "compute_closest_points");
+    check_answer_memory(rows, 12 + 4 + 4 + 8 + 12, "compute_closest_points");  // point, two ids, uv, normal
     closest_accel(h);
     auto points = new_array<float>(rows.lead, {3});
     auto geometry_ids = new_array<uint32_t>(rows.lead);

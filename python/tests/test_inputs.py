@@ -74,7 +74,7 @@ accel = thicket.build(thicket.Scene(v, np.array([[0, 1, 2]])))
 rays = np.zeros((40_000_000, 6), np.float32)
 report(lambda: accel.cast_rays(rays))
 """, GIB)
-    assert out.startswith("MemoryError: cast_rays: the answers for an array of shape (40000000, 6) needs 1.2 GiB"), out
+    assert out.startswith("MemoryError: cast_rays: answering an array of shape (40000000, 6) needs 1.2 GiB"), out
 
 
 def test_numpy_memory_error_reaches_the_caller_with_its_message():
