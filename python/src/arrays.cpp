@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "inputs.h"
 #include "thicket/accel/accel.h"
 #include "thicket/core/huge_pages.h"
 
@@ -43,9 +44,9 @@ Rows float32_rows(const py::handle& obj, const char* what, std::initializer_list
         throw py::value_error(std::string(what) + ": expected dtype float32, got shape " + received +
                               " (convert with .astype(numpy.float32))");
     Rows r;
-    // Copies only a strided or byte-swapped array; a C-contiguous float32 array is used in place.
-    r.array = py::array_t<float, py::array::c_style>::ensure(a);
-    if (!r.array) throw py::error_already_set();
+    // Copies only a strided (or broadcast) array, its memory checked first; a C-contiguous
+    // float32 array is used in place.
+    r.array = contiguous(a, py::dtype::of<float>(), what);
     r.width = size_t(a.shape(a.ndim() - 1));
     r.count = 1;
     for (py::ssize_t i = 0; i + 1 < a.ndim(); ++i) {
@@ -53,6 +54,14 @@ Rows float32_rows(const py::handle& obj, const char* what, std::initializer_list
         r.count *= size_t(a.shape(i));
     }
     return r;
+}
+
+void check_answer_memory(const Rows& rows, size_t bytes_per_row, const char* query) {
+    std::string shape = "(";
+    for (const py::ssize_t n : rows.lead) shape += std::to_string(n) + ", ";
+    shape += std::to_string(rows.width) + ")";
+    check_allocation(bytes_of(rows.count, bytes_per_row),
+                     std::string(query) + ": answering an array of shape " + shape);
 }
 
 void check_interval_arguments(const Rows& rows, std::optional<float> tnear, std::optional<float> tfar) {

@@ -61,6 +61,11 @@ inline void stream_fence() {
 #endif
 }
 
+/// MemoryError "<query>: answering an array of shape (...) needs ..." unless `bytes_per_row`
+/// for every row of `rows` fits in the memory available (check_allocation): called before a
+/// query allocates its output arrays.
+void check_answer_memory(const Rows& rows, size_t bytes_per_row, const char* query);
+
 /// tnear/tfar of the 6-column form; with 8 columns the row holds the interval and giving them too
 /// is a ValueError (which one would win is not obvious).
 void check_interval_arguments(const Rows& rows, std::optional<float> tnear, std::optional<float> tfar);

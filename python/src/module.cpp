@@ -4,13 +4,15 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include <cmath>
+#include <climits>
 #include <cstring>
 #include <memory>
 #include <string>
 
 #include "arrays.h"
+#include "inputs.h"
 #include "queries.h"
+#include "scenes.h"
 #include "thicket/accel/registry.h"
 #include "thicket/core/error.h"
 
@@ -21,46 +23,9 @@ namespace thicket::python {
 
 namespace {
 
-/// str or os.PathLike, as open() takes them.
-std::string path_argument(const py::object& path) {
-    return py::str(py::module_::import("os").attr("fspath")(path)).cast<std::string>();
-}
-
-/// A scene from numpy vertices (V, 3) of any float dtype and triangles (T, 3) of any integer dtype;
-/// every index is checked against V, every coordinate must be finite.
-std::shared_ptr<Scene> scene_from_arrays(const py::array& vertices, const py::array& triangles) {
-    if (vertices.ndim() != 2 || vertices.shape(1) != 3 || vertices.dtype().kind() != 'f')
-        throw py::value_error("vertices: expected a float array of shape (V, 3), got shape " + shape_text(vertices) +
-                              " " + std::string(py::str(vertices.dtype())));
-    if (triangles.ndim() != 2 || triangles.shape(1) != 3 ||
-        (triangles.dtype().kind() != 'i' && triangles.dtype().kind() != 'u'))
-        throw py::value_error("triangles: expected an integer array of shape (T, 3), got shape " +
-                              shape_text(triangles) + " " + std::string(py::str(triangles.dtype())));
-    const auto v = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(vertices);
-    const auto f = py::array_t<int64_t, py::array::c_style | py::array::forcecast>::ensure(triangles);
-    if (!v || !f) throw py::error_already_set();
-    TriangleMesh mesh;
-    const size_t nv = size_t(v.shape(0));
-    mesh.positions.reserve(nv);
-    for (size_t i = 0; i < nv; ++i) {
-        const double* p = v.data() + 3 * i;
-        if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
-            throw py::value_error("vertices: row " + std::to_string(i) + " is not finite");
-        mesh.positions.push_back({float(p[0]), float(p[1]), float(p[2])});
-    }
-    const size_t n = size_t(f.size());
-    mesh.indices.reserve(n);
-    for (size_t i = 0; i < n; ++i) {
-        const int64_t index = f.data()[i];
-        if (index < 0 || uint64_t(index) >= nv)
-            throw py::value_error("triangles: row " + std::to_string(i / 3) + " has vertex index " +
-                                  std::to_string(index) + ", outside 0.." + std::to_string(int64_t(nv) - 1));
-        mesh.indices.push_back(uint32_t(index));
-    }
-    auto scene = std::make_shared<Scene>();
-    scene->name = "<arrays>";
-    scene->add_mesh(mesh);
-    return scene;
+/// nsamples of the occupancy queries as an int (its odd-and-small rule is checked by the query).
+int sample_count(const py::handle& nsamples) {
+    return int(int_argument(nsamples, "nsamples", INT_MIN, INT_MAX, "an odd count up to 5"));
 }
 
 py::dict stats_dict(const AccelStats& s) {
@@ -123,7 +88,10 @@ PYBIND11_MODULE(_thicket, m) {
 
     py::class_<Scene, std::shared_ptr<Scene>>(m, "Scene",
         "Triangles and shapes that structures are built over: Scene(vertices (V,3), triangles (T,3)) or load_scene(path)")
-        .def(py::init(&scene_from_arrays), "vertices"_a, "triangles"_a)
+        .def(py::init(&scene_from_arrays), "vertices"_a, "triangles"_a,
+             "vertices (V, 3) of any float dtype, every one finite; triangles (T, 3) of any integer dtype, every "
+             "index in 0..V-1 (ValueError quoting it otherwise). V up to 2^32, T below 2^32 - 1; a scene bigger than "
+             "the memory available is a MemoryError naming both shapes, before anything is allocated")
         .def_readonly("name", &Scene::name)
         .def_property_readonly("primitive_count", &Scene::primitive_count)
         .def_property_readonly("triangle_count", [](const Scene& s) { return s.mesh.triangle_count(); })
@@ -144,11 +112,9 @@ PYBIND11_MODULE(_thicket, m) {
                    std::to_string(s.shapes.size()) + " shapes>";
         });
 
-    m.def("load_scene", [](const py::object& path) {
-        const std::string p = path_argument(path);
-        py::gil_scoped_release nogil;
-        return std::make_shared<Scene>(load_scene(p));
-    }, "path"_a, "Loads a PLY, OBJ, glTF or JSON scene, or a built-in one ('cornell', 'teapot-patches')");
+    m.def("load_scene", [](const py::object& path) { return load_scene_file(path_argument(path, "path")); }, "path"_a,
+          "Loads a PLY, OBJ, glTF or JSON scene, or a built-in one ('cornell', 'teapot-patches'). path: str, bytes "
+          "or os.PathLike; a NUL byte in it is a ValueError");
 
     py::class_<AccelHandle>(m, "Accel", "An acceleration structure over a scene: thicket.build(scene, spec)")
         .def_property_readonly("spec", [](const AccelHandle& h) { return h.accel->spec(); })
@@ -156,35 +122,65 @@ PYBIND11_MODULE(_thicket, m) {
         .def_property_readonly("bounds", [](const AccelHandle& h) { return bounds_tuple(h.accel->bounds()); })
         .def("stats", [](const AccelHandle& h) { return stats_dict(h.accel->stats()); },
              "nodes, leaves, depth, bytes, SAH cost, build time as a dict")
-        .def("save", [](const AccelHandle& h, const py::object& path) {
-            const std::string p = path_argument(path);
+        .def("save", [](const AccelHandle& h, const py::object& path, bool overwrite) {
+            const std::string p = path_argument(path, "path");
+            std::vector<InputFile> inputs;
+            if (std::optional<InputFile> f = scene_file(h.scene)) inputs.push_back(*f);
+            if (h.saved_from) inputs.push_back(*h.saved_from);
+            refuse_clobber(p, inputs, overwrite);
             py::gil_scoped_release nogil;
             save_accel(*h.accel, *h.scene, p);
-        }, "path"_a, "Saves the structure; thicket.load(path, scene) restores it for the same scene")
-        .def("cast_rays", &cast_rays, "rays"_a, "nthreads"_a = 0, "coherent"_a = false,
+        }, "path"_a, "overwrite"_a = false,
+             "Saves the structure; thicket.load(path, scene) restores it for the same scene. path: str, bytes or "
+             "os.PathLike. As the CLI's outputs: an existing file is replaced only with overwrite=True "
+             "(FileExistsError otherwise), and the scene file the structure was built from, or the file it was "
+             "loaded from, is never replaced (ValueError), under any name")
+        .def("cast_rays", [](AccelHandle& h, const py::handle& rays, const py::handle& nthreads,
+                             const py::handle& coherent) {
+            return cast_rays(h, rays, thread_count(nthreads), bool_argument(coherent, "coherent"));
+        }, "rays"_a, "nthreads"_a = 0, "coherent"_a = false,
              "Closest hit of rays (..., 6) or (..., 8) float32: dict of t_hit, geometry_ids, primitive_ids, "
-             "primitive_uvs, primitive_normals (Open3D's RaycastingScene.cast_rays)")
-        .def("test_occlusions", &test_occlusions, "rays"_a, "tnear"_a = py::none(), "tfar"_a = py::none(),
-             "nthreads"_a = 0, "coherent"_a = false, "Whether anything is hit: bool array of the rays' leading shape")
-        .def("count_intersections", &count_intersections, "rays"_a, "nthreads"_a = 0,
+             "primitive_uvs, primitive_normals (Open3D's RaycastingScene.cast_rays). nthreads: 0 (one per core) "
+             "or a thread count up to 2^32 - 1, as the CLI's -j; answers that do not fit in memory are a MemoryError")
+        .def("test_occlusions", [](const AccelHandle& h, const py::handle& rays, const py::handle& tnear,
+                                   const py::handle& tfar, const py::handle& nthreads, const py::handle& coherent) {
+            return test_occlusions(h, rays, float_argument(tnear, "tnear"), float_argument(tfar, "tfar"),
+                                   thread_count(nthreads), bool_argument(coherent, "coherent"));
+        }, "rays"_a, "tnear"_a = py::none(), "tfar"_a = py::none(), "nthreads"_a = 0, "coherent"_a = false,
+             "Whether anything is hit: bool array of the rays' leading shape")
+        .def("count_intersections", [](const AccelHandle& h, const py::handle& rays, const py::handle& nthreads) {
+            return count_intersections(h, rays, thread_count(nthreads));
+        }, "rays"_a, "nthreads"_a = 0,
              "Number of surface crossings of each ray, int32 of the rays' leading shape (a shared edge or vertex "
              "crossed once counts once)")
-        .def("list_intersections", &list_intersections, "rays"_a, "nthreads"_a = 0,
+        .def("list_intersections", [](const AccelHandle& h, const py::handle& rays, const py::handle& nthreads) {
+            return list_intersections(h, rays, thread_count(nthreads));
+        }, "rays"_a, "nthreads"_a = 0,
              "Every crossing, sorted by t per ray: dict of ray_splits, ray_ids, t_hit, geometry_ids, primitive_ids, "
              "primitive_uvs (Open3D 0.17's layout)")
-        .def("compute_closest_points", &compute_closest_points, "query_points"_a, "nthreads"_a = 0,
+        .def("compute_closest_points", [](AccelHandle& h, const py::handle& points, const py::handle& nthreads) {
+            return compute_closest_points(h, points, thread_count(nthreads));
+        }, "query_points"_a, "nthreads"_a = 0,
              "Closest surface point of points (..., 3) float32: dict of points, geometry_ids, primitive_ids, "
              "primitive_uvs, primitive_normals (triangle scenes)")
-        .def("compute_distance", &compute_distance, "query_points"_a, "nthreads"_a = 0,
-             "Distance to the surface, float32 of the points' leading shape")
-        .def("compute_signed_distance", &compute_signed_distance, "query_points"_a, "nthreads"_a = 0,
-             "nsamples"_a = 1, "Distance to the surface, negative inside (by compute_occupancy)")
-        .def("compute_occupancy", &compute_occupancy, "query_points"_a, "nthreads"_a = 0, "nsamples"_a = 1,
+        .def("compute_distance", [](AccelHandle& h, const py::handle& points, const py::handle& nthreads) {
+            return compute_distance(h, points, thread_count(nthreads));
+        }, "query_points"_a, "nthreads"_a = 0, "Distance to the surface, float32 of the points' leading shape")
+        .def("compute_signed_distance", [](AccelHandle& h, const py::handle& points, const py::handle& nthreads,
+                                           const py::handle& nsamples) {
+            return compute_signed_distance(h, points, thread_count(nthreads), sample_count(nsamples));
+        }, "query_points"_a, "nthreads"_a = 0, "nsamples"_a = 1,
+             "Distance to the surface, negative inside (by compute_occupancy)")
+        .def("compute_occupancy", [](const AccelHandle& h, const py::handle& points, const py::handle& nthreads,
+                                     const py::handle& nsamples) {
+            return compute_occupancy(h, points, thread_count(nthreads), sample_count(nsamples));
+        }, "query_points"_a, "nthreads"_a = 0, "nsamples"_a = 1,
              "1 inside, 0 outside (float32), by the parity of crossings along nsamples (odd, up to 5) directions")
         .def("__repr__", [](const AccelHandle& h) { return "<thicket.Accel '" + h.accel->spec() + "'>"; });
 
     m.def("build", [](std::shared_ptr<Scene> scene, const std::string& spec) {
         if (!scene) throw py::value_error("build: scene is None");
+        check_no_nul(spec, "spec");
         py::gil_scoped_release nogil;
         std::shared_ptr<const Accel> accel = build_accel(spec, *scene);
         return AccelHandle(scene, accel);
@@ -192,13 +188,21 @@ PYBIND11_MODULE(_thicket, m) {
 
     m.def("load", [](const py::object& path, std::shared_ptr<Scene> scene) {
         if (!scene) throw py::value_error("load: scene is None");
-        const std::string p = path_argument(path);
-        py::gil_scoped_release nogil;
-        std::shared_ptr<const Accel> accel = load_accel(p, *scene);
-        return AccelHandle(scene, accel);
-    }, "path"_a, "scene"_a, "Loads a structure saved by Accel.save for the same scene");
+        const std::string p = path_argument(path, "path");
+        std::optional<InputFile> file = input_file(p, "the saved structure");
+        std::shared_ptr<const Accel> accel;
+        {
+            py::gil_scoped_release nogil;
+            accel = load_accel(p, *scene);
+        }
+        AccelHandle handle(scene, accel);
+        handle.saved_from = std::move(file);
+        return handle;
+    }, "path"_a, "scene"_a, "Loads a structure saved by Accel.save for the same scene (path: str, bytes or os.PathLike)");
 
     m.def("accels", &accels_list, "Every registered structure: name, summary, options, variants");
-    m.def("_batch_seconds", &batch_seconds, "accel"_a, "rows"_a, "query"_a, "nthreads"_a = 0,
+    m.def("_batch_seconds", [](AccelHandle& h, const py::handle& rows, const std::string& query, const py::handle& nthreads) {
+        return batch_seconds(h, rows, query, thread_count(nthreads));
+    }, "accel"_a, "rows"_a, "query"_a, "nthreads"_a = 0,
           "For python/bench/module_bench.py: seconds of the C++ batch call alone (closest, any, count, closest_point)");
 }

@@ -117,6 +117,7 @@ struct CastOutputs {
 
 py::dict cast_rays(AccelHandle& h, const py::handle& rays_obj, unsigned threads, bool coherent) {
     const Rows rows = float32_rows(rays_obj, "rays", {6, 8});
+    check_answer_memory(rows, 4 + 4 + 4 + 8 + 12, "cast_rays");  // t, two ids, uv, normal
     const std::shared_ptr<const std::vector<Vec3>> normal_table = triangle_normals(h, threads);
     const Vec3* table = normal_table && normal_table->size() > 2 ? normal_table->data() : nullptr;
     const uint32_t miss_entry = normal_table ? uint32_t(normal_table->size() - 2) : 0;
@@ -169,6 +170,7 @@ py::array test_occlusions(const AccelHandle& h, const py::handle& rays_obj, std:
                           std::optional<float> tfar, unsigned threads, bool coherent) {
     const Rows rows = float32_rows(rays_obj, "rays", {6, 8});
     check_interval_arguments(rows, tnear, tfar);
+    check_answer_memory(rows, sizeof(bool), "test_occlusions");
     auto result = new_array<bool>(rows.lead);
     bool* out = result.mutable_data();
     {
@@ -225,6 +227,7 @@ const Accel& closest_accel(const AccelHandle& h) {
 
 py::array count_intersections(const AccelHandle& h, const py::handle& rays_obj, unsigned threads) {
     const Rows rows = float32_rows(rays_obj, "rays", {6, 8});
+    check_answer_memory(rows, sizeof(int32_t), "count_intersections");
     auto result = new_array<int32_t>(rows.lead);
     int32_t* out = result.mutable_data();
     {
@@ -248,6 +251,9 @@ py::dict list_intersections(const AccelHandle& h, const py::handle& rays_obj, un
     }
     const size_t n = lists.hits.size();
     if (n > size_t(UINT32_MAX)) throw Error("list_intersections: more than 2^32 - 1 crossings; cast fewer rays at once");
+    // The ray ids, t, geometry and primitive ids and uvs of every crossing, and the splits.
+    check_allocation(bytes_of(n, 24) + bytes_of(rows.count + 1, 4),
+                     "list_intersections: the " + std::to_string(n) + " crossings of " + std::to_string(rows.count) + " rays");
     auto splits = new_array<uint32_t>({py::ssize_t(rows.count + 1)});
     auto ray_ids = new_array<uint32_t>({py::ssize_t(n)});
     auto t_hit = new_array<float>({py::ssize_t(n)});
@@ -286,6 +292,7 @@ py::dict list_intersections(const AccelHandle& h, const py::handle& rays_obj, un
 
 py::dict compute_closest_points(AccelHandle& h, const py::handle& points_obj, unsigned threads) {
     const Rows rows = query_points(points_obj);
+    check_answer_memory(rows, 12 + 4 + 4 + 8 + 12, "compute_closest_points");  // point, two ids, uv, normal
     closest_accel(h);
     auto points = new_array<float>(rows.lead, {3});
     auto geometry_ids = new_array<uint32_t>(rows.lead);
@@ -324,6 +331,7 @@ py::dict compute_closest_points(AccelHandle& h, const py::handle& points_obj, un
 
 py::array compute_distance(AccelHandle& h, const py::handle& points_obj, unsigned threads) {
     const Rows rows = query_points(points_obj);
+    check_answer_memory(rows, sizeof(float), "compute_distance");
     closest_accel(h);
     auto result = new_array<float>(rows.lead);
     {
@@ -338,6 +346,7 @@ py::array compute_distance(AccelHandle& h, const py::handle& points_obj, unsigne
 py::array compute_occupancy(const AccelHandle& h, const py::handle& points_obj, unsigned threads, int nsamples) {
     const Rows rows = query_points(points_obj);
     check_samples(nsamples);
+    check_answer_memory(rows, sizeof(float), "compute_occupancy");
     auto result = new_array<float>(rows.lead);
     float* out = result.mutable_data();
     {
@@ -355,6 +364,7 @@ py::array compute_occupancy(const AccelHandle& h, const py::handle& points_obj, 
 py::array compute_signed_distance(AccelHandle& h, const py::handle& points_obj, unsigned threads, int nsamples) {
     const Rows rows = query_points(points_obj);
     check_samples(nsamples);
+    check_answer_memory(rows, sizeof(float), "compute_signed_distance");
     closest_accel(h);
     auto result = new_array<float>(rows.lead);
     {
@@ -371,6 +381,7 @@ double batch_seconds(AccelHandle& h, const py::handle& rows_obj, const std::stri
     options.threads = threads;
     if (query == "closest_point") {
         const Rows rows = query_points(rows_obj);
+        check_answer_memory(rows, sizeof(Vec3) + sizeof(NearestPoint), "_batch_seconds");
         const Accel& accel = closest_accel(h);
         py::gil_scoped_release nogil;
         const std::span<const Vec3> rows_points = points_of(rows);
@@ -383,6 +394,7 @@ double batch_seconds(AccelHandle& h, const py::handle& rows_obj, const std::stri
     if (query != "closest" && query != "any" && query != "count")
         throw py::value_error("query must be closest, any, count or closest_point, got " + query);
     const Rows rows = float32_rows(rows_obj, "rays", {6, 8});
+    check_answer_memory(rows, sizeof(Ray) + sizeof(Hit), "_batch_seconds");
     py::gil_scoped_release nogil;
     const RayBatch batch = make_rays(ray_rows(rows), threads);
     std::vector<Hit> hits(query == "closest" ? batch.rays.size() : 0);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "arrays.h"
+#include "inputs.h"
 #include "thicket/accel/accel.h"
 #include "thicket/accel/point_queries.h"
 #include "thicket/scene/scene.h"
@@ -31,6 +32,8 @@ struct AccelHandle {
     /// ever touched with the GIL held): cast_rays writes one normal per hit, and one load from
     /// here costs a sixth of the index and vertex loads (and the square root) behind Scene::normal.
     std::shared_ptr<const std::vector<Vec3>> triangle_normals;
+    /// The saved structure it was loaded from (thicket.load), which Accel.save never replaces.
+    std::optional<InputFile> saved_from;
 };
 
 /// Open3D's cast_rays: dict of t_hit (inf on a miss), geometry_ids (0, or 4294967295 on a miss),

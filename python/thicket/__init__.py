@@ -7,9 +7,20 @@
 
 Queries are named and shaped as Open3D's RaycastingScene answers them (t_hit, primitive_ids,
 primitive_uvs, primitive_normals, ...); rays of 8 columns add a per-ray [tmin, tmax]. Tracing
-releases the GIL and uses every core unless nthreads says otherwise. Errors: ValueError for an
-array of the wrong shape or dtype, OSError for a file that cannot be read or written,
-thicket.Error for everything else (a bad spec, a malformed file, a saved structure of another scene).
+releases the GIL and uses every core unless nthreads says otherwise.
+
+Arguments are checked as the `thicket` CLI checks its own: paths are str, bytes or os.PathLike
+(bytes as open() takes them); a path or spec with a NUL byte is a ValueError; nthreads is 0 (one
+thread per core) or a count up to 2^32 - 1, as -j; an array whose copy or answers would not fit in
+the memory available (MemAvailable, capped by RLIMIT_AS) is a MemoryError naming the argument and
+its shape, raised before anything is allocated. Accel.save(path) replaces an existing file only
+with overwrite=True, and never the scene file the structure was built from or the saved structure
+it was loaded from (under any name).
+
+Errors: ValueError for an array of the wrong shape or dtype or an argument out of range,
+MemoryError for one too big for memory, OSError for a file that cannot be read or written
+(FileExistsError for an existing output), thicket.Error for everything else (a bad spec, a
+malformed file, a saved structure of another scene).
 """
 
 from ._thicket import Accel, Error, Scene, accels, build, load, load_scene

@@ -6,14 +6,19 @@
     hits = thicket.dask.cast_rays(da.from_zarr("rays.zarr"), "/data/scene.ply", saved="/data/scene.bvh")
 
 Each worker process loads the scene and the structure once (saved with Accel.save, or built from
-`spec` when `saved` is None) and keeps them for every chunk it is given; the paths must be readable
-on the workers. Rays are chunked along their leading axes only (the last axis, 6 or 8 columns, is
+`spec` when `saved` is None) and keeps them for every chunk it is given, until either file is
+replaced or changed (a different inode, size or modification time): then the next chunk loads them
+again. The paths (str, bytes or os.PathLike) must be readable on the workers. A numpy array of
+rays is taken as one too (wrapped with dask.array.from_array). Rays are chunked along their leading axes only (the last axis, 6 or 8 columns, is
 made one chunk). The results are Dask arrays with the rays' leading chunks, as the single-process
 queries answer them: the same values, ray for ray.
 """
 
+import numbers
+import os
 import threading
 
+import dask.array as da
 import numpy as np
 
 import thicket
@@ -25,18 +30,33 @@ _lock = threading.Lock()
 _loads = 0
 
 
+def _file_state(path):
+    """What tells a replaced or rewritten file from the one read before: (device, inode, size,
+    mtime in ns); None for a built-in scene name or a path that is not there (load says why)."""
+    if path is None:
+        return None
+    try:
+        st = os.stat(path)
+    except (OSError, ValueError):
+        return None
+    return (st.st_dev, st.st_ino, st.st_size, st.st_mtime_ns)
+
+
 def _accel(scene_path, spec, saved):
-    """The structure for these paths in this process: loaded on first use, then reused."""
+    """The structure for these paths in this process: loaded on first use, then reused while
+    both files are the ones it was loaded from (a path alone would answer for an old scene after
+    the file is replaced)."""
     global _loads
     key = (scene_path, spec, saved)
     with _lock:  # a worker's threads share one copy; only one of them loads it
-        accel = _cache.get(key)
-        if accel is None:
+        state = (_file_state(scene_path), _file_state(saved))
+        entry = _cache.get(key)
+        if entry is None or entry[0] != state:
             scene = thicket.load_scene(scene_path)
             accel = thicket.load(saved, scene) if saved is not None else thicket.build(scene, spec)
-            _cache[key] = accel
+            _cache[key] = entry = (state, accel)  # the old structure, if any, is dropped
             _loads += 1
-        return accel
+        return entry[1]
 
 
 def load_count():
@@ -59,7 +79,30 @@ def _cast_block(block, scene_path, spec, saved, nthreads):
     return out
 
 
+def _path(path, what):
+    """A path argument as the str the workers open: bytes decoded as open() would, not str()'d."""
+    if path is None:
+        return None
+    try:
+        return os.fsdecode(path)
+    except TypeError:
+        raise TypeError(f"{what}: expected a str, bytes or os.PathLike path, got {type(path).__name__}") from None
+
+
+def _check_nthreads(nthreads):
+    """The module's rule (the CLI's -j), checked here so that a bad count fails before any work."""
+    if not isinstance(nthreads, numbers.Integral):
+        raise TypeError(f"nthreads must be an integer, got {type(nthreads).__name__}")
+    if not 0 <= nthreads <= 2**32 - 1:
+        raise ValueError(f"nthreads must be 0 (one thread per core) or a thread count up to 4294967295, got {nthreads}")
+
+
 def _one_chunk_last_axis(rays):
+    if isinstance(rays, np.ndarray):
+        rays = da.from_array(rays)
+    elif not isinstance(rays, da.Array):
+        raise TypeError(f"rays: expected a dask array (or a numpy array) of shape (..., 6) or (..., 8), "
+                        f"got {type(rays).__name__}")
     if rays.ndim < 1 or rays.shape[-1] not in (6, 8):
         raise ValueError(f"rays: expected a dask array of shape (..., 6) or (..., 8), got shape {rays.shape}")
     if rays.dtype != np.float32:
@@ -68,9 +111,11 @@ def _one_chunk_last_axis(rays):
 
 
 def cast_rays(rays, scene_path, spec="bvh8", saved=None, nthreads=0):
-    """Closest hits of a Dask array of rays: a dict of Dask arrays with cast_rays' keys."""
+    """Closest hits of a Dask array of rays (a numpy array is wrapped with dask.array.from_array;
+    anything else is a TypeError): a dict of Dask arrays with cast_rays' keys."""
     rays = _one_chunk_last_axis(rays)
-    packed = rays.map_blocks(_cast_block, str(scene_path), spec, None if saved is None else str(saved), nthreads,
+    _check_nthreads(nthreads)
+    packed = rays.map_blocks(_cast_block, _path(scene_path, "scene_path"), spec, _path(saved, "saved"), nthreads,
                              dtype=np.float32, chunks=rays.chunks[:-1] + ((_PACKED,),))
     prim = packed[..., 1].map_blocks(lambda b: b.view(np.uint32), dtype=np.uint32)
     return {
@@ -84,20 +129,21 @@ def cast_rays(rays, scene_path, spec="bvh8", saved=None, nthreads=0):
 
 def _per_ray(rays, scene_path, spec, saved, query, dtype, **kwargs):
     rays = _one_chunk_last_axis(rays)
-    saved = None if saved is None else str(saved)
+    _check_nthreads(kwargs.get("nthreads", 0))
+    scene_path, saved = _path(scene_path, "scene_path"), _path(saved, "saved")
 
     def block(b):
-        return getattr(_accel(str(scene_path), spec, saved), query)(np.ascontiguousarray(b, np.float32), **kwargs)
+        return getattr(_accel(scene_path, spec, saved), query)(np.ascontiguousarray(b, np.float32), **kwargs)
 
     return rays.map_blocks(block, dtype=dtype, drop_axis=rays.ndim - 1)
 
 
 def test_occlusions(rays, scene_path, spec="bvh8", saved=None, nthreads=0):
-    """Whether anything is hit, a bool Dask array of the rays' leading shape."""
+    """Whether anything is hit, a bool Dask array of the rays' leading shape (rays as cast_rays takes them)."""
     return _per_ray(rays, scene_path, spec, saved, "test_occlusions", np.bool_, nthreads=nthreads)
 
 
 def count_intersections(rays, scene_path, spec="bvh8", saved=None, nthreads=0):
-    """Surface crossings per ray, an int32 Dask array of the rays' leading shape."""
+    """Surface crossings per ray, an int32 Dask array of the rays' leading shape (rays as cast_rays takes them)."""
     return _per_ray(rays, scene_path, spec, saved, "count_intersections", np.int32, nthreads=nthreads)
 
