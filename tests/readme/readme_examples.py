@@ -61,6 +61,7 @@ def main(argv):
         text = block(argv[2], argv[3])
         # Rewritten only when it changed, so that the build does not recompile an unchanged example.
         if not os.path.exists(argv[4]) or open(argv[4], encoding="utf-8").read() != text:
+            os.makedirs(os.path.dirname(os.path.abspath(argv[4])), exist_ok=True)
             open(argv[4], "w", encoding="utf-8").write(text)
         return
     if len(argv) == 3 and argv[1] == "run-cpp":
