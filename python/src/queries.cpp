@@ -17,7 +17,8 @@ namespace thicket::python {
 
 namespace {
 
-constexpr uint32_t kGeometryId = 0;  // one geometry per structure (Open3D numbers its meshes)
+/// The geometry id of a one-geometry scene's hits: what put4 writes from the miss mask alone.
+constexpr uint32_t kGeometryId = 0;
 
 /// h.triangle_normals, made on first use for a triangle scene (null for a scene with shapes,
 /// whose normals depend on the hit point). Call with the GIL held; it is released while the
@@ -48,13 +49,14 @@ struct CastOutputs {
     float* uv;
     float* nrm;
     bool stream;
+    const Scene* scene;  ///< names the geometry of each hit (Scene::geometry_of)
 
     /// Row `row` answers `hit` (a miss: t inf, ids 4294967295, zero uv and normal); n is the hit's normal.
     void put(size_t row, const Hit& hit, const Vec3& n) const {
         const bool found = hit.found();
         // A miss is +inf, not the ray's tmax (Open3D's and `thicket trace`'s convention).
         store(t + row, found ? hit.t : kInfinity);
-        store(geom + row, found ? kGeometryId : kNoPrim);
+        store(geom + row, scene->geometry_of(hit.prim));  // a miss's kNoPrim stays kNoPrim
         store(prim + row, hit.prim);
         store(uv + 2 * row, found ? hit.u : 0.0f);
         store(uv + 2 * row + 1, found ? hit.v : 0.0f);
@@ -65,8 +67,8 @@ struct CastOutputs {
 
 #if defined(__SSE2__)
     /// Rows row .. row + 3 (row a multiple of 4) answer hits[0 .. 4), as put() would with the
-    /// normals of `table` (triangle_normals': a miss reads its zero entry at `miss_entry`). Four
-    /// rows at once take a third of the instructions of four put() calls.
+    /// normals of `table` (triangle_normals': a miss reads its zero entry at `miss_entry`), for a
+    /// scene of one geometry. Four rows at once take a third of the instructions of four put() calls.
     void put4(size_t row, const Hit* hits, const Vec3* table, uint32_t miss_entry) const {
         static_assert(kGeometryId == 0 && kNoPrim == 0xFFFFFFFFu, "a geometry id is the miss mask");
         __m128 ht = _mm_loadu_ps(&hits[0].t), hu = _mm_loadu_ps(&hits[1].t);
@@ -130,7 +132,8 @@ py::dict cast_rays(AccelHandle& h, const py::handle& rays_obj, unsigned threads,
     auto normals = new_array<float>(rows.lead, {3});
     // Taken with the GIL held; the arrays stay alive in this frame.
     CastOutputs o{t_hit.mutable_data(), geometry_ids.mutable_data(), primitive_ids.mutable_data(),
-                    uvs.mutable_data(), normals.mutable_data(), false};
+                    uvs.mutable_data(), normals.mutable_data(), false, h.scene.get()};
+    const bool one_geometry = h.scene->geometry_count() <= 1;
     const auto aligned = [](const void* p) { return reinterpret_cast<uintptr_t>(p) % 16 == 0; };
     o.stream = size_t(t_hit.nbytes()) >= kStreamBytes && aligned(o.t) && aligned(o.geom) && aligned(o.prim) &&
                aligned(o.uv) && aligned(o.nrm);
@@ -144,7 +147,7 @@ py::dict cast_rays(AccelHandle& h, const py::handle& rays_obj, unsigned threads,
                     if (hits.data[k].found()) __builtin_prefetch(table + hits.data[k].prim);
             size_t k = 0;
 #if defined(__SSE2__)
-            if (c.complete() && table)  // nearly every chunk: c.begin and k are multiples of 4
+            if (c.complete() && table && one_geometry)  // nearly every chunk: c.begin and k are multiples of 4
                 for (; k + 4 <= c.count; k += 4) o.put4(c.begin + k, hits.data + k, table, miss_entry);
 #endif
             if (!c.complete())  // rows without a ray are misses
@@ -274,7 +277,7 @@ py::dict list_intersections(const AccelHandle& h, const py::handle& rays_obj, un
                 const Hit& hit = lists.hits[j];
                 ids[j] = uint32_t(row);
                 t[j] = hit.t;
-                geom[j] = kGeometryId;
+                geom[j] = h.scene->geometry_of(hit.prim);
                 prim[j] = hit.prim;
                 uv[2 * j] = hit.u;
                 uv[2 * j + 1] = hit.v;
@@ -311,7 +314,7 @@ py::dict compute_closest_points(AccelHandle& h, const py::handle& points_obj, un
                 const NearestPoint& s = closest[i - begin];
                 const bool found = s.found();
                 p[3 * i] = s.point.x, p[3 * i + 1] = s.point.y, p[3 * i + 2] = s.point.z;
-                geom[i] = found ? kGeometryId : kNoPrim;
+                geom[i] = found ? h.scene->geometry_of(s.prim) : kNoPrim;
                 prim[i] = s.prim;
                 uv[2 * i] = s.u, uv[2 * i + 1] = s.v;
                 Vec3 n = found ? h.scene->geometric_normal(s.prim) : Vec3{0, 0, 0};

@@ -65,8 +65,8 @@ def load_count():
 
 
 # cast_rays' answers packed in one float32 block per chunk, so one task casts each chunk once and
-# the five outputs are views of it: t, primitive id (its bits), u, v, normal x, y, z.
-_PACKED = 7
+# the five outputs are views of it: t, primitive id and geometry id (their bits), u, v, normal x, y, z.
+_PACKED = 8
 
 
 def _cast_block(block, scene_path, spec, saved, nthreads):
@@ -74,8 +74,9 @@ def _cast_block(block, scene_path, spec, saved, nthreads):
     out = np.empty(block.shape[:-1] + (_PACKED,), np.float32)
     out[..., 0] = hits["t_hit"]
     out[..., 1] = hits["primitive_ids"].view(np.float32)
-    out[..., 2:4] = hits["primitive_uvs"]
-    out[..., 4:7] = hits["primitive_normals"]
+    out[..., 2] = hits["geometry_ids"].view(np.float32)
+    out[..., 3:5] = hits["primitive_uvs"]
+    out[..., 5:8] = hits["primitive_normals"]
     return out
 
 
@@ -120,10 +121,10 @@ def cast_rays(rays, scene_path, spec="bvh8", saved=None, nthreads=0):
     prim = packed[..., 1].map_blocks(lambda b: b.view(np.uint32), dtype=np.uint32)
     return {
         "t_hit": packed[..., 0],
-        "geometry_ids": prim.map_blocks(lambda p: np.where(p == thicket.INVALID_ID, p, np.uint32(0)), dtype=np.uint32),
+        "geometry_ids": packed[..., 2].map_blocks(lambda b: b.view(np.uint32), dtype=np.uint32),
         "primitive_ids": prim,
-        "primitive_uvs": packed[..., 2:4],
-        "primitive_normals": packed[..., 4:7],
+        "primitive_uvs": packed[..., 3:5],
+        "primitive_normals": packed[..., 5:8],
     }
 
 
