@@ -48,3 +48,16 @@ def random_rays(scene, n, seed=1, width=8):
     if width == 8:
         rays[:, 7] = np.inf
     return rays
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_makereport(item, call):
+    """THICKET_REFUSE_SKIPS=1 (CI, as for the ctest entries: scripts/ctest-checked) turns a skip
+    into a failure that says why it skipped: a missing ../shared or an unset THICKET_CLI must not
+    pass as green."""
+    outcome = yield
+    report = outcome.get_result()
+    if report.skipped and os.environ.get("THICKET_REFUSE_SKIPS") == "1" and not hasattr(report, "wasxfail"):
+        reason = report.longrepr[2] if isinstance(report.longrepr, tuple) else str(report.longrepr)
+        report.outcome = "failed"
+        report.longrepr = f"skipped ({reason}), and this run refuses skips (THICKET_REFUSE_SKIPS=1)"

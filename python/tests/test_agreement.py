@@ -45,6 +45,22 @@ def test_agrees_with_thicket_trace(tmp_path, scene_name):
         assert np.array_equal(occ.astype(bool), thicket.build(scene, spec).test_occlusions(rays))
 
 
+def named_primitive_is_hit(scene, isect, ray, got, i):
+    """The conformance suite's rule for a hit that names another primitive than brute force: that
+    primitive alone, traced by brute force with the same triangle test, gives exactly the t and uv
+    reported. Triangles are probed in a scene of that one triangle; shapes (which the module cannot
+    take apart) through brute force's list of every crossing of the ray."""
+    prim = int(got["primitive_ids"][i])
+    if prim < scene.triangle_count:
+        tri = scene.vertices[scene.triangles[prim]].astype(np.float32)
+        alone = thicket.build(thicket.Scene(tri, np.array([[0, 1, 2]], np.int32)), f"brute:isect={isect}")
+        probe = alone.cast_rays(ray[None, :])
+        return probe["t_hit"][0] == got["t_hit"][i] and np.array_equal(probe["primitive_uvs"][0], got["primitive_uvs"][i])
+    crossings = thicket.build(scene, f"brute:isect={isect}").list_intersections(ray[None, :])
+    mine = crossings["primitive_ids"] == prim
+    return bool(np.any(crossings["t_hit"][mine] == got["t_hit"][i]))
+
+
 def variants():
     return [v for a in thicket.accels() for v in a["variants"]]
 
@@ -63,12 +79,14 @@ def test_every_variant_agrees_with_brute_force(scene_name):
         assert 0.2 < hit.mean() < 1.0
         got = thicket.build(scene, spec).cast_rays(rays)
         assert np.array_equal(np.isfinite(got["t_hit"]), hit), spec
-        # Another primitive may answer at the same t (a shared edge): the conformance suite checks
-        # which; here t must agree to the suite's 1e-5 relative, and where the id agrees, t and uv
-        # must agree bit for bit.
+        # Another primitive may answer at the same t (a shared edge): t must agree to the suite's
+        # 1e-5 relative, and the primitive named must really be hit there (the conformance suite's
+        # rule, named_primitive_is_hit); where the id agrees, t and uv agree bit for bit.
         assert np.allclose(got["t_hit"][hit], ref["t_hit"][hit], rtol=1e-5, atol=0), spec
         same = hit & (got["primitive_ids"] == ref["primitive_ids"])
-        assert same.sum() > 0.99 * hit.sum(), spec
+        isect = "watertight" if "isect=watertight" in spec else "moller"
+        for i in np.flatnonzero(hit & ~same):
+            assert named_primitive_is_hit(scene, isect, rays[i], got, i), f"{spec}: ray {i}"
         assert np.array_equal(got["t_hit"][same], ref["t_hit"][same]), spec
         assert np.array_equal(got["primitive_uvs"][same], ref["primitive_uvs"][same]), spec
         assert np.array_equal(thicket.build(scene, spec).test_occlusions(rays), ref_occ), spec
