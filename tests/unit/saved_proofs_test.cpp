@@ -1,0 +1,202 @@
+// Saved structures that load and answer wrongly (issue 31): the OBB tree and the tetrahedral
+// mesh were loaded after structural checks only, so a shrunk box or a moved vertex (checksum
+// recomputed) loaded and lost hits. Their loaders now prove what traversal relies on; here every
+// reproduction of the issue is refused by name or answers every ray exactly like the structure
+// that was built, and the proofs never refuse a file the builder wrote.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <sstream>
+#include <string>
+
+#include "saved_bytes.h"
+#include "support/test_scenes.h"
+#include "thicket/accel/registry.h"
+#include "thicket/core/error.h"
+#include "thicket/obb/obb.h"
+#include "thicket/prims/triangles.h"
+#include "thicket/tetra/tetra.h"
+
+namespace thicket {
+namespace {
+
+using testing::error_of;
+using testing::layout_of;
+using testing::reseal;
+using testing::with_payload;
+
+/// The teapot of the shared scenes (the issue's example), or the built-in Cornell box without them.
+const Scene& teapot_or_cornell() {
+    static const Scene cornell = load_scene("cornell");
+    const std::string dir = testing::shared_scene_dir();
+    return dir.empty() ? cornell : testing::cached_scene(dir + "/teapot.ply");
+}
+
+/// A structure's answers to a ray set: closest hit (distance and primitive) and occlusion.
+struct Answers {
+    std::vector<Hit> hits;
+    std::vector<bool> occluded;
+};
+Answers answers_of(const Accel& accel, const std::vector<Ray>& rays) {
+    Answers a;
+    for (const Ray& r : rays) {
+        a.hits.push_back(accel.intersect(r));
+        a.occluded.push_back(accel.occluded(r));
+    }
+    return a;
+}
+
+/// Whether the scene's triangle `prim` is hit at exactly `t` by `ray` (by either triangle test):
+/// a tie, where another traversal order may rightly answer another primitive.
+bool hit_at(const Scene& scene, uint32_t prim, const Ray& ray, float t) {
+    if (scene.has_shapes() || prim >= scene.primitive_count()) return false;
+    Hit moller, watertight;
+    Triangles<TriangleTest::Moller>(scene.mesh).intersect(prim, ray, moller);
+    Triangles<TriangleTest::Watertight>(scene.mesh).intersect(prim, ray, watertight);
+    return moller.t == t || watertight.t == t;
+}
+
+/// "" when `loaded` answers every ray exactly as `built` did (the same distance, and the same
+/// primitive unless the loaded one is hit at that very distance too), else the first difference.
+std::string difference(const Accel& loaded, const Scene& scene, const std::vector<Ray>& rays, const Answers& built) {
+    for (size_t k = 0; k < rays.size(); ++k) {
+        const Hit h = loaded.intersect(rays[k]);
+        const Hit& want = built.hits[k];
+        const bool same_hit = h.found() == want.found() &&
+                              (!h.found() || (h.t == want.t && (h.prim == want.prim || hit_at(scene, h.prim, rays[k], h.t))));
+        if (!same_hit || loaded.occluded(rays[k]) != built.occluded[k])
+            return "ray " + std::to_string(k) + ": t " + std::to_string(h.t) + " prim " + std::to_string(h.prim) +
+                   ", built: t " + std::to_string(want.t) + " prim " + std::to_string(want.prim);
+    }
+    return "";
+}
+
+/// Seeded corruptions of a saved file: `flips` single bits anywhere in the payload, then
+/// `writes` random bytes into its first 64 bytes (the counts and the first records). Each must
+/// be refused or answer every ray exactly like the built structure; returns how many loaded.
+size_t corrupt_and_check(const std::string& spec, const Scene& scene, size_t flips, size_t writes, uint32_t seed) {
+    const auto built = build_accel(spec, scene);
+    const std::string bytes = saved_accel_bytes(*built, scene);
+    const std::vector<Ray> rays = testing::conformance_rays(scene, 400, seed);
+    const Answers truth = answers_of(*built, rays);
+    const size_t at = layout_of(bytes).payload_at, size = bytes.size() - at;
+    std::mt19937 rng(seed);
+    size_t loaded = 0;
+    for (size_t i = 0; i < flips + writes; ++i) {
+        std::string changed = bytes;
+        std::string what;
+        if (i < flips) {
+            const size_t bit = std::uniform_int_distribution<size_t>(0, 8 * size - 1)(rng);
+            changed[at + bit / 8] = char(changed[at + bit / 8] ^ (1 << (bit % 8)));
+            what = "bit " + std::to_string(bit) + " flipped";
+        } else {
+            const size_t byte = std::uniform_int_distribution<size_t>(0, std::min<size_t>(64, size) - 1)(rng);
+            const auto value = char(std::uniform_int_distribution<int>(0, 255)(rng));
+            if (changed[at + byte] == value) continue;
+            changed[at + byte] = value;
+            what = "byte " + std::to_string(byte) + " set to " + std::to_string(uint8_t(value));
+        }
+        std::unique_ptr<Accel> accel;
+        try {
+            accel = load_accel_bytes(reseal(changed), scene, "changed.bin");
+        } catch (const Error&) {
+            continue;
+        }
+        ++loaded;
+        const std::string diff = difference(*accel, scene, rays, truth);
+        EXPECT_EQ(diff, "") << spec << " on " << scene.name << ": payload " << what << " loaded and answers wrongly";
+    }
+    return loaded;
+}
+
+TEST(SavedProofs, AnObbWithAShrunkRootBoxIsRefused) {
+    const Scene& scene = teapot_or_cornell();
+    const auto built = build_accel("obb", scene);
+    const std::string bytes = saved_accel_bytes(*built, scene);
+    const auto& obb = dynamic_cast<const Obb<Triangles<TriangleTest::Moller>>&>(*built);
+    for (int axis = 0; axis < 3; ++axis) {
+        ObbData data = obb.data();
+        data.nodes[0].half[axis] *= 0.9f;
+        std::ostringstream payload;
+        write_obb(payload, data);
+        const std::string error = error_of(with_payload(bytes, payload.str()), scene);
+        EXPECT_NE(error.find("saved.bin: invalid OBB tree: node 0's box does not contain primitive"), std::string::npos)
+            << error;
+    }
+    // A leaf's box moved off its triangles, deep in the tree, is refused by the same proof.
+    ObbData data = obb.data();
+    const size_t leaf = size_t(std::find_if(data.nodes.begin(), data.nodes.end(), [](const ObbNode& n) { return n.is_leaf(); }) -
+                               data.nodes.begin());
+    data.nodes[leaf].center = data.nodes[leaf].center + data.nodes[leaf].axis[0] * (2.5f * data.nodes[leaf].half.x);
+    std::ostringstream payload;
+    write_obb(payload, data);
+    const std::string error = error_of(with_payload(bytes, payload.str()), scene);
+    EXPECT_NE(error.find("node " + std::to_string(leaf) + "'s box does not contain primitive"), std::string::npos) << error;
+    EXPECT_EQ(error_of(bytes, scene), "");
+}
+
+TEST(SavedProofs, CorruptedObbFilesAreRefusedOrAnswerLikeTheBuiltTree) {
+    const Scene& scene = teapot_or_cornell();
+    for (const char* spec : {"obb", "obb:fit=axes", "obb:builder=lbvh,max-leaf=1"})
+        RecordProperty(std::string(spec) + "_loaded", int(corrupt_and_check(spec, scene, 40, 30, 31)));
+}
+
+TEST(SavedProofs, CorruptedTetraFilesAreRefusedOrAnswerLikeTheBuiltMesh) {
+    const Scene& scene = teapot_or_cornell();
+    RecordProperty("tetra_loaded", int(corrupt_and_check("tetra", scene, 40, 30, 31)));
+    // The Cornell box's mesh has a fallback (its shared-plane triangles) and is small enough
+    // for more flips.
+    RecordProperty("tetra_cornell_loaded", int(corrupt_and_check("tetra", load_scene("cornell"), 200, 60, 7)));
+}
+
+TEST(SavedProofs, EverySaveableStructureSurvivesSeededCorruption) {
+    const Scene scene = load_scene("cornell");
+    for (const AccelInfo& info : accel_registry()) {
+        // The BSP's validator proves structure only (docs/fuzzing.md; SavedStructure.KnownGap...).
+        if (!info.load || info.name == "bsp") continue;
+        for (const std::string& spec : info.variants)
+            RecordProperty(spec + "_loaded", int(corrupt_and_check(spec, scene, 40, 30, 5)));
+    }
+}
+
+/// The load-time proofs never refuse what the builder wrote: each scene is built, saved and
+/// loaded, and the loaded structure answers like the built one.
+void expect_round_trip(const std::string& spec, const Scene& scene) {
+    const auto built = build_accel(spec, scene);
+    const std::string error = error_of(saved_accel_bytes(*built, scene), scene);
+    EXPECT_EQ(error, "") << spec << " on " << scene.name;
+    if (!error.empty()) return;
+    const auto loaded = load_accel_bytes(saved_accel_bytes(*built, scene), scene, "round.bin");
+    const std::vector<Ray> rays = testing::conformance_rays(scene, 200);
+    EXPECT_EQ(difference(*loaded, scene, rays, answers_of(*built, rays)), "") << spec << " on " << scene.name;
+}
+
+/// A scene's triangles with every coordinate multiplied by `scale`.
+Scene scaled(const Scene& from, float scale, const std::string& name) {
+    TriangleMesh mesh = from.mesh;
+    for (Vec3& p : mesh.positions) p = p * scale;
+    Scene s;
+    s.name = name;
+    s.mesh = std::move(mesh);
+    return s;
+}
+
+TEST(SavedProofs, TheProofsNeverRefuseWhatTheBuilderWrote) {
+    std::vector<Scene> scenes = testing::nasty_scenes();
+    const Scene soup = scenes.back();  // the random soup, also at the ends of float's range
+    scenes.push_back(scaled(soup, 1e30f, "soup-1e30"));
+    scenes.push_back(scaled(soup, 1e-30f, "soup-1e-30"));
+    scenes.push_back(testing::mixed_scene());
+    for (const Scene& scene : scenes)
+        for (const char* spec : {"obb", "obb:fit=axes", "obb:builder=lbvh,max-leaf=1", "tetra"})
+            expect_round_trip(spec, scene);
+    const Scene& teapot = teapot_or_cornell();
+    for (const char* spec : {"obb", "obb:builder=lbvh,max-leaf=1", "tetra"}) expect_round_trip(spec, teapot);
+    const std::string dir = testing::shared_scene_dir();
+    if (!dir.empty()) expect_round_trip("obb", testing::cached_scene(dir + "/bunny.ply"));
+}
+
+}  // namespace
+}  // namespace thicket
