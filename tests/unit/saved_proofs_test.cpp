@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 #include <sstream>
@@ -159,6 +160,98 @@ TEST(SavedProofs, EverySaveableStructureSurvivesSeededCorruption) {
         for (const std::string& spec : info.variants)
             RecordProperty(spec + "_loaded", int(corrupt_and_check(spec, scene, 40, 30, 5)));
     }
+}
+
+/// The data of a tetra structure built over triangles (Moller test).
+const TetraData& tetra_data(const Accel& accel) {
+    return dynamic_cast<const Tetra<Triangles<TriangleTest::Moller>>&>(accel).data();
+}
+
+/// The message a file of `bytes`' header with `data` as its payload is refused with.
+std::string tetra_error(const std::string& bytes, const TetraData& data, const Scene& scene) {
+    std::ostringstream payload;
+    write_tetra(payload, data);
+    return error_of(with_payload(bytes, payload.str()), scene);
+}
+
+/// Each change keeps every index in range (validate_tetra accepts it) but would mislead the walk.
+TEST(SavedProofs, TetraMeshesThatWouldMisleadTheWalkAreRefusedByName) {
+    const Scene scene = load_scene("cornell");
+    const auto built = build_accel("tetra", scene);
+    const std::string bytes = saved_accel_bytes(*built, scene);
+    const TetraData& good = tetra_data(*built);
+    const TetraMesh& m = good.mesh;
+    ASSERT_GT(m.tet_count(), 0u) << "the Cornell box was not meshed";
+    size_t carrying = 0;  // a face carrying a triangle, with a neighbour
+    while (carrying < m.face_tris.size() && (m.face_tris[carrying] == kNoTet || m.neighbors[carrying] == kNoTet))
+        ++carrying;
+    ASSERT_LT(carrying, m.face_tris.size());
+    const uint32_t t = uint32_t(carrying / 4), u = m.neighbors[carrying];
+    auto contains = [](const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; };
+
+    TetraData d = good;  // the face no longer carries its triangle, seen from either side
+    for (size_t j = 0; j < 4; ++j)
+        if (d.mesh.neighbors[4 * size_t(u) + j] == t) d.mesh.face_tris[4 * size_t(u) + j] = kNoTet;
+    d.mesh.face_tris[carrying] = kNoTet;
+    std::string e = tetra_error(bytes, d, scene);
+    EXPECT_TRUE(contains(e, "the faces carrying it leave a gap or overlap")) << e;
+
+    d = good;  // one side carries it, the other not
+    d.mesh.face_tris[carrying] = kNoTet;
+    e = tetra_error(bytes, d, scene);
+    EXPECT_TRUE(contains(e, "carry different triangles")) << e;
+
+    d = good;  // a neighbour that does not name this tetrahedron back
+    d.mesh.neighbors[carrying] = (u + 1) % uint32_t(m.tet_count()) == t ? (u + 2) % uint32_t(m.tet_count())
+                                                                         : (u + 1) % uint32_t(m.tet_count());
+    e = tetra_error(bytes, d, scene);
+    EXPECT_TRUE(contains(e, "neighbour")) << e;
+
+    d = good;  // the box grown: its faces no longer hold the mesh's open faces
+    d.mesh.box_max.x += 1.0;
+    e = tetra_error(bytes, d, scene);
+    EXPECT_TRUE(contains(e, "has no neighbour but is not on the box")) << e;
+
+    d = good;  // a tetrahedron turned inside out (two vertices swapped, with their neighbours)
+    std::swap(d.mesh.tets[0], d.mesh.tets[1]);
+    std::swap(d.mesh.neighbors[0], d.mesh.neighbors[1]);
+    std::swap(d.mesh.face_tris[0], d.mesh.face_tris[1]);
+    e = tetra_error(bytes, d, scene);
+    EXPECT_TRUE(contains(e, "tetrahedron 0 is inverted")) << e;
+
+    d = good;  // a vertex of a carrying face moved off its triangle's plane (up the wall)
+    const uint32_t x = m.tets[4 * size_t(t) + (carrying % 4 == 0 ? 1 : 0)];
+    const uint32_t p = m.face_tris[carrying];
+    const std::array<Vec3, 3> tri = Triangles<>(scene.mesh).triangle(p);
+    const Vec3 n = normalize(cross(tri[1] - tri[0], tri[2] - tri[0]));
+    d.mesh.points[x] = d.mesh.points[x] + D3{n.x, n.y, n.z} * 1e-7;
+    e = tetra_error(bytes, d, scene);
+    EXPECT_TRUE(contains(e, "off its plane") || contains(e, "inverted")) << e;
+
+    d = good;  // a carrying face's vertex that does not list its triangle
+    const uint32_t y = m.tets[4 * size_t(t) + (carrying % 4 == 0 ? 1 : 0)];
+    auto& list = d.mesh.vertex_tris;
+    const auto first = list.begin() + d.mesh.vertex_offsets[y], last = list.begin() + d.mesh.vertex_offsets[y + 1];
+    const auto at = std::find(first, last, p);
+    ASSERT_NE(at, last);
+    list.erase(at);
+    for (size_t v = y + 1; v < d.mesh.vertex_offsets.size(); ++v) --d.mesh.vertex_offsets[v];
+    e = tetra_error(bytes, d, scene);
+    EXPECT_TRUE(contains(e, "which does not list it") || contains(e, "neither meshed nor in the fallback")) << e;
+
+    EXPECT_EQ(error_of(bytes, scene), "");
+}
+
+TEST(SavedProofs, ATetraFallbackBvhWithAShrunkBoxIsRefused) {
+    const Scene scene = load_scene("cornell");
+    const auto built = build_accel("tetra:max-triangles=20", scene);  // every triangle in the fallback
+    const std::string bytes = saved_accel_bytes(*built, scene);
+    TetraData d = tetra_data(*built);
+    ASSERT_GT(d.fallback_bvh.nodes_used, 0u);
+    d.fallback_bvh.nodes[0].aabbMax.y -= 0.25f * (d.fallback_bvh.nodes[0].aabbMax.y - d.fallback_bvh.nodes[0].aabbMin.y);
+    const std::string e = tetra_error(bytes, d, scene);
+    EXPECT_NE(e.find("invalid BVH: node 0's box does not contain its child"), std::string::npos) << e;
+    EXPECT_EQ(error_of(bytes, scene), "");
 }
 
 /// The load-time proofs never refuse what the builder wrote: each scene is built, saved and
