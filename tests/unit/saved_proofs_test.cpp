@@ -16,6 +16,7 @@
 #include "support/test_scenes.h"
 #include "thicket/accel/registry.h"
 #include "thicket/core/error.h"
+#include "thicket/grid/grid.h"
 #include "thicket/obb/obb.h"
 #include "thicket/prims/triangles.h"
 #include "thicket/tetra/tetra.h"
@@ -252,6 +253,23 @@ TEST(SavedProofs, ATetraFallbackBvhWithAShrunkBoxIsRefused) {
     const std::string e = tetra_error(bytes, d, scene);
     EXPECT_NE(e.find("invalid BVH: node 0's box does not contain its child"), std::string::npos) << e;
     EXPECT_EQ(error_of(bytes, scene), "");
+}
+
+// Found by fuzz_saved (libFuzzer, UBSan; fuzz/regressions/saved/grid2-offsets-decrease-later.bin):
+// a grid whose first cell offset points past the entries and a later one comes back down spans
+// the entries from first to last, and the entries of the cells before the decrease were read
+// (past the end of the list) before the decrease was seen. Every offset is now checked first.
+TEST(SavedProofs, GridOffsetsThatComeBackDownAreRefusedBeforeAnyEntryIsRead) {
+    const Scene scene = load_scene("cornell");
+    const auto accel = build_accel("grid", scene);
+    const std::string bytes = saved_accel_bytes(*accel, scene);
+    GridData data = dynamic_cast<const Grid<Triangles<>>&>(*accel).data();
+    ASSERT_GE(data.lists.start.size(), 3u);
+    data.lists.start[1] = uint32_t(data.lists.refs.size()) + 1000;
+    std::ostringstream payload;
+    write_grid(payload, data);
+    const std::string e = error_of(with_payload(bytes, payload.str()), scene);
+    EXPECT_NE(e.find("saved.bin: invalid grid: the offsets of cell 1 are out of order"), std::string::npos) << e;
 }
 
 /// The load-time proofs never refuse what the builder wrote: each scene is built, saved and
