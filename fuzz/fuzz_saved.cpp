@@ -1,5 +1,6 @@
 // Saved structures (`thicket build` files) of every loadable structure, over the built-in Cornell
-// box. The harness recomputes the checksum over the (mutated) spec and payload before loading,
+// box, or over a unit cube of 12 triangles (the scene of fuzz/corpus/saved/cube.obj, for the
+// structures whose Cornell files are over -max_len: the tetrahedral mesh). The harness recomputes the checksum over the (mutated) spec and payload before loading,
 // so the mutations reach the structures' validators instead of stopping at the checksum. A file
 // that loads must answer like brute force: a validator that lets a wrong tree through is a
 // finding even when nothing crashes.
@@ -16,13 +17,28 @@ namespace {
 
 const size_t kSpecLengthAt = 8 + 4 + 4 + 8 + 8;  // magic, version, byte order, fingerprint, size
 
+/// The unit cube of cube.obj: 8 corners, 12 triangles (a closed mesh TetGen meshes whole in a
+/// few dozen tetrahedra, so its saved tetra file fits -max_len=4096).
+thicket::Scene unit_cube() {
+    thicket::Scene s;
+    s.name = "cube.obj";
+    for (int c = 0; c < 8; ++c) {
+        // cube.obj's vertex order: the bottom square counter-clockwise, then the top one.
+        const float x = (c % 4 == 1 || c % 4 == 2) ? 1.0f : 0.0f, y = (c % 4 >= 2) ? 1.0f : 0.0f;
+        s.mesh.positions.push_back({x, y, c >= 4 ? 1.0f : 0.0f});
+    }
+    s.mesh.indices = {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
+                      1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7};
+    return s;
+}
+
 /// Brute force's answers with one triangle test (the loaded structure's isect= option: the two
 /// tests legitimately differ on edges).
 struct Reference {
-    thicket::Scene scene = thicket::load_scene("cornell");
+    thicket::Scene scene;
     std::vector<thicket::Ray> rays;
     std::vector<thicket::Hit> hits;
-    explicit Reference(const std::string& isect) {
+    Reference(thicket::Scene s, const std::string& isect) : scene(std::move(s)) {
         const auto brute = thicket::build_accel("brute:isect=" + isect, scene);
         const thicket::Aabb b = scene.bounds();
         // A fan of rays from in front of the box and from inside it, through the whole scene.
@@ -36,11 +52,21 @@ struct Reference {
     }
 };
 
+/// The references of one scene, one per triangle test.
+struct References {
+    Reference moller, watertight;
+    explicit References(const thicket::Scene& s) : moller(s, "moller"), watertight(s, "watertight") {}
+};
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-    static const Reference moller("moller"), watertight("watertight");
-    const Reference& ref = moller;
+    static const References cornell(thicket::load_scene("cornell")), cube(unit_cube());
+    // The scene the file says it was built for (its primitive count; a mismatch is refused).
+    uint64_t prims = 0;
+    if (size >= 32) std::memcpy(&prims, data + 24, 8);
+    const References& refs = prims == cube.moller.scene.primitive_count() ? cube : cornell;
+    const Reference& ref = refs.moller;
     std::string bytes(reinterpret_cast<const char*>(data), size);
     if (bytes.size() >= kSpecLengthAt + 4) {
         uint32_t spec_len = 0;
@@ -58,7 +84,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     } catch (const thicket::Error&) {
         return 0;
     }
-    const Reference& truth = thicket::parse_accel_spec(accel->spec()).get("isect") == "watertight" ? watertight : moller;
+    const Reference& truth = thicket::parse_accel_spec(accel->spec()).get("isect") == "watertight" ? refs.watertight : refs.moller;
     // The BSP's validator proves structure only (docs/fuzzing.md): its answers are not checked.
     const bool proven = accel->spec().rfind("bsp", 0) != 0;
     for (size_t i = 0; proven && i < truth.rays.size(); ++i) {

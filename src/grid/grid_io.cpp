@@ -88,9 +88,12 @@ void check_cell_lists(const CellLists& lists, size_t cells, size_t primitive_cou
                     " cells");
     if (lists.start.front() != 0 || lists.start.back() != lists.refs.size())
         throw Error(invalid + "the cell offsets do not span the " + std::to_string(lists.refs.size()) + " entries");
-    for (size_t c = 0; c < cells; ++c) {
+    // Every offset in order before any entry is read: only then do the first and last offsets
+    // bound every cell's range (a later decrease once let an earlier cell read past the entries).
+    for (size_t c = 0; c < cells; ++c)
         if (lists.start[c] > lists.start[c + 1])
             throw Error(invalid + "the offsets of cell " + std::to_string(c) + " are out of order");
+    for (size_t c = 0; c < cells; ++c) {
         for (uint32_t k = lists.start[c]; k < lists.start[c + 1]; ++k) {
             const uint32_t id = lists.refs[k] & kPrimMask;
             if (id >= primitive_count)

@@ -1,6 +1,6 @@
 // OBB tree payload: the arrays' lengths, then the arrays as they are in memory. Reading checks
 // every length against the scene and the bytes left before allocating (PayloadReader), then the
-// structure.
+// structure (validate_obb); the Obb that adopts it proves its boxes (validate_obb_bounds).
 #include <istream>
 #include <ostream>
 #include <string>

@@ -1,7 +1,8 @@
 // Tetra payload: the mesh's arrays, each preceded by its length, the fallback's primitive ids,
 // the build report, then the fallback BVH (last: its reader checks for trailing bytes).
 // Reading checks every length against the bytes left before allocating (PayloadReader), then the
-// structure.
+// structure (validate_tetra); the Tetra that adopts it proves its geometry
+// (validate_tetra_geometry).
 #include <istream>
 #include <ostream>
 #include <string>

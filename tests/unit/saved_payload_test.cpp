@@ -11,6 +11,7 @@
 #include <sstream>
 #include <string>
 
+#include "saved_bytes.h"
 #include "support/test_scenes.h"
 #include "thicket/accel/registry.h"
 #include "thicket/bvh/bvh.h"
@@ -24,44 +25,10 @@
 namespace thicket {
 namespace {
 
-/// Where the spec, the checksum and the payload lie in saved_accel_bytes()'s layout.
-struct Layout {
-    size_t spec_at, spec_len, checksum_at, payload_at;
-};
-Layout layout_of(const std::string& bytes) {
-    const size_t spec_len_at = 8 + 4 + 4 + 8 + 8;
-    uint32_t spec_len = 0;
-    std::memcpy(&spec_len, bytes.data() + spec_len_at, 4);
-    const size_t spec_at = spec_len_at + 4;
-    return {spec_at, spec_len, spec_at + spec_len + 8, spec_at + spec_len + 16};
-}
-
-/// The bytes with the checksum recomputed over their (changed) spec and payload.
-std::string reseal(std::string bytes) {
-    const Layout l = layout_of(bytes);
-    const uint64_t sum = saved_accel_checksum(std::string_view(bytes).substr(l.spec_at, l.spec_len),
-                                              std::string_view(bytes).substr(l.payload_at));
-    std::memcpy(bytes.data() + l.checksum_at, &sum, 8);
-    return bytes;
-}
-
-/// The saved bytes with another payload (its length and the checksum rewritten to match).
-std::string with_payload(const std::string& bytes, const std::string& payload) {
-    const Layout l = layout_of(bytes);
-    std::string out = bytes.substr(0, l.payload_at) + payload;
-    const uint64_t length = payload.size();
-    std::memcpy(out.data() + l.checksum_at - 8, &length, 8);
-    return reseal(out);
-}
-
-std::string error_of(const std::string& bytes, const Scene& scene) {
-    try {
-        load_accel_bytes(bytes, scene, "saved.bin");
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "";
-}
+using testing::error_of;
+using testing::layout_of;
+using testing::reseal;
+using testing::with_payload;
 
 TEST(SavedStructure, TheSpecTextIsInsideTheChecksum) {
     const Scene scene = load_scene("cornell");
@@ -88,7 +55,7 @@ TEST(SavedStructure, AFlippedPayloadBitIsRefusedOrHarmless) {
     // bvh:builder=sbvh: leaves holding clipped parts of triangles, whose coverage the validator proves.
     for (const char* spec : {"bvh", "bvh:traversal=ordered-axis", "bvh:builder=sbvh,alpha=0,budget=1,max-leaf=2", "kdtree",
                              "kdtree:builder=median", "bih", "bvh8", "bvh8:leaf-merge=8", "grid", "grid:assign=bounds", "grid2", "octree",
-                             "octree:traversal=restart"}) {
+                             "octree:traversal=restart", "obb", "obb:fit=axes", "tetra"}) {
         const std::string bytes = saved_accel_bytes(*build_accel(spec, scene), scene);
         const size_t payload_at = layout_of(bytes).payload_at;
         size_t refused = 0, loaded = 0;

@@ -44,6 +44,11 @@ TreeFigures obb_figures(const ObbData& obb, float reference_area);
 /// every primitive referenced once, finite boxes with orthonormal axes); throws Error
 /// describing the first violation.
 void validate_obb(const ObbData& obb, size_t primitive_count);
+/// What traversal relies on beyond structure (call after validate_obb): every node's box
+/// encloses every point (`points`, as build_obb was given them) of every primitive below it,
+/// with the allowance src/obb/validate_bounds.cpp derives from `scale` (the builder's); throws
+/// Error naming the node and the primitive. Never refuses a tree build_obb made.
+void validate_obb_bounds(const ObbData& obb, const ObbPoints& points, float scale);
 
 /// Payload I/O for save_accel/load_accel; read_obb validates before returning.
 void write_obb(std::ostream& out, const ObbData& obb);

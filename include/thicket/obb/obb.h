@@ -53,9 +53,11 @@ public:
         data_ = build_obb(bvh, obb_points(prims_), options.fit, scene_scale(), options.bvh.threads);
     }
 
-    /// Adopts an already built (e.g. loaded) tree after checking it fits `prims`.
+    /// Adopts an already built (e.g. loaded) tree after proving it fits `prims`: structure,
+    /// then every box around the primitives below it (a shrunk box would cull hits).
     Obb(Prims prims, ObbData data) : prims_(std::move(prims)), data_(std::move(data)) {
         validate_obb(data_, prims_.size());
+        validate_obb_bounds(data_, obb_points(prims_), scene_scale());
     }
 
     /// The union of the primitives' boxes (the oriented root box is not axis-aligned).

@@ -37,6 +37,12 @@ TetraData build_tetra(const TetraInput& input, const TetraBuildOptions& options)
 /// Checks every index and count (tetrahedra, neighbours, incidence lists, start grid, fallback);
 /// throws Error naming the first violation.
 void validate_tetra(const TetraData& data, size_t primitive_count);
+/// What the walk relies on beyond structure (call after validate_tetra): the tetrahedra tile
+/// the box once, every meshed triangle is covered by the faces that carry it (and listed at
+/// their vertices), the fallback BVH's boxes contain their primitives. Proofs and tolerances in
+/// src/tetra/validate_geometry.cpp; throws Error naming what is wrong. Never refuses a structure
+/// build_tetra made from the same input.
+void validate_tetra_geometry(const TetraData& data, const TetraInput& input);
 
 /// Payload I/O for save_accel/load_accel; read_tetra validates before returning.
 void write_tetra(std::ostream& out, const TetraData& data);

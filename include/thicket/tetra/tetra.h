@@ -58,9 +58,11 @@ public:
         : prims_(std::move(prims)), data_(build_tetra(tetra_detail::tetra_input(prims_), options)) {
         init();
     }
-    /// Adopts an already built (e.g. loaded) structure after checking it fits `prims`.
+    /// Adopts an already built (e.g. loaded) structure after proving it fits `prims`: structure,
+    /// then the geometry the walk relies on (validate_tetra_geometry).
     Tetra(Prims prims, TetraData data) : prims_(std::move(prims)), data_(std::move(data)) {
         validate_tetra(data_, prims_.size());
+        validate_tetra_geometry(data_, tetra_detail::tetra_input(prims_));
         init();
     }
 
