@@ -2,7 +2,6 @@
 // grazing rays, collapsed edges, bad input.
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cmath>
 #include <random>
 
@@ -254,13 +253,13 @@ TEST(Bezier, PointPatchAndRaysInThePlaneEndQuickly) {
     const Vec3 n = point.normal({1, 2, 3}, 0.5f, 0.5f);
     EXPECT_NEAR(length(n), 1.0f, 1e-6f);
 
-    // A ray lying in the flat patch's plane: the roots form a segment. The budget bounds the work.
+    // A ray lying in the flat patch's plane: the roots form a segment. The budget bounds the work,
+    // counted in subpatches (a time bound would fail on a loaded machine, not on a bug).
     const BezierPatch flat = flat_patch();
     stats = {};
-    const auto start = std::chrono::steady_clock::now();
     intersect_counted(flat, {{-1, 1, 0}, 0, {1, 0, 0}, kInfinity}, kInfinity, h, stats);
+    EXPECT_GT(stats.subpatches, 0);
     EXPECT_LE(stats.subpatches, 4097);
-    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.0);
 }
 
 TEST(Bezier, NonFiniteControlPointIsAnError) {
