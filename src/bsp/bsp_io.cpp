@@ -1,10 +1,12 @@
 // BSP payload: the arrays as they are in memory (the tree is relocatable), each preceded by its
 // length, then the root box, the scale and the splinter figures. Reading checks every length
 // against the scene and the bytes left before allocating (PayloadReader), then the whole
-// structure (validate_bsp).
+// structure (validate_bsp); adopting it proves it is the tree the builder makes
+// (prove_bsp_rebuilt, called by the Bsp's loading constructor).
 #include <cmath>
 #include <istream>
 #include <ostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -63,6 +65,18 @@ BspData read_bsp(std::istream& in, size_t primitive_count) {
     reader.end();
     validate_bsp(bsp, primitive_count);
     return bsp;
+}
+
+void prove_bsp_rebuilt(const BspData& saved, const BspData& rebuilt) {
+    std::ostringstream a, b;
+    write_bsp(a, saved);
+    write_bsp(b, rebuilt);
+    const std::string x = a.str(), y = b.str();
+    if (x == y) return;
+    size_t at = 0;
+    while (at < x.size() && at < y.size() && x[at] == y[at]) ++at;
+    throw Error("invalid BSP: not the tree this scene and spec build (the payload differs from byte " +
+                std::to_string(at) + " on); a BSP file is proved by rebuilding it (docs/fuzzing.md)");
 }
 
 void validate_bsp(const BspData& bsp, size_t primitive_count) {

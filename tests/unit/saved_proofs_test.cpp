@@ -156,8 +156,7 @@ TEST(SavedProofs, CorruptedTetraFilesAreRefusedOrAnswerLikeTheBuiltMesh) {
 TEST(SavedProofs, EverySaveableStructureSurvivesSeededCorruption) {
     const Scene scene = load_scene("cornell");
     for (const AccelInfo& info : accel_registry()) {
-        // The BSP's validator proves structure only (docs/fuzzing.md; SavedStructure.KnownGap...).
-        if (!info.load || info.name == "bsp") continue;
+        if (!info.load) continue;
         for (const std::string& spec : info.variants)
             RecordProperty(spec + "_loaded", int(corrupt_and_check(spec, scene, 40, 30, 5)));
     }

@@ -31,9 +31,15 @@ public:
         }
     }
 
-    /// Adopts an already built (e.g. loaded) tree after checking it fits `prims`.
+    /// Adopts an already built tree after checking its structure fits `prims`.
     Bsp(Prims prims, BspData data) : prims_(std::move(prims)), data_(std::move(data)) {
         validate_bsp(data_, prims_.size());
+    }
+    /// Adopts a saved tree after proving it is the one `options` build over `prims`
+    /// (prove_bsp_rebuilt): loading a BSP costs its build.
+    Bsp(Prims prims, BspData saved, const BspBuildOptions& options) : Bsp(std::move(prims), options) {
+        validate_bsp(saved, prims_.size());  // a broken structure gets its own message first
+        prove_bsp_rebuilt(saved, data_);
     }
 
     Aabb bounds() const override { return data_.bounds; }

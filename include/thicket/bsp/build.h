@@ -67,6 +67,12 @@ BspFigures bsp_figures(const BspData& bsp);
 /// describing the first violation.
 void validate_bsp(const BspData& bsp, size_t primitive_count);
 
+/// The BSP's load-time proof: its leaves hold fragments clipped down the planes above them, and no
+/// check cheaper than the clipping proves a moved plane or a lost fragment harmless, so a loaded
+/// tree must be the very tree the (deterministic) builder makes for the scene and spec. Throws
+/// Error naming the first byte at which `saved`'s payload differs from `rebuilt`'s.
+void prove_bsp_rebuilt(const BspData& saved, const BspData& rebuilt);
+
 /// Payload I/O for save_accel/load_accel; read_bsp validates before returning.
 void write_bsp(std::ostream& out, const BspData& bsp);
 BspData read_bsp(std::istream& in, size_t primitive_count);
