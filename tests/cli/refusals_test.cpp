@@ -110,6 +110,9 @@ TEST_F(Refusals, FloatOverflowInExposureAndCameraIsNamed) {
     expect_refused(run(render + "--exposure 1e39"), {"--exposure 1e+39", "beyond float's range"});
     expect_refused(run(render + "--exposure 1e-50"), {"--exposure 1e-50", "below float's smallest"});
     expect_refused(run(render + "--exposure 0"), {"--exposure 0", "must be > 0"});
+    expect_refused(run(render + "--time 1e400"), {"--time is infinite"});
+    expect_refused(run("render cornell --view heatmap --heat-max 1e400 -s 8x8 -o " + q("h.png")),
+                   {"--heat-max inf is not a finite node count"});
     // A view direction that itself passes float's range.
     expect_refused(run("render cornell -s 8x8 --camera -3e38,0,0,3e38,0,0 -o " + q("c.png")),
                    {"view direction passes float's range"});

@@ -56,7 +56,9 @@ int run_render(const CLI::App* cmd, const RenderArgs& args) {
     options.threads = args.threads;
     options.heat_max = args.heat_max;
     options.legend = !args.no_legend;
-    if (!(args.heat_max >= 0.0)) throw Error("--heat-max must be a number of nodes >= 0 (0: the image's maximum)");
+    if (!(args.heat_max >= 0.0) || !std::isfinite(args.heat_max))
+        throw Error("--heat-max " + std::to_string(args.heat_max) +
+                    " is not a finite node count >= 0 (0: the image's maximum)");
     if (options.view != View::Heatmap)
         for (const char* o : {"--heat-max", "--no-legend"})
             refuse_if_given(cmd, o, "it sets the heatmap's colour scale; the view is " + args.view);

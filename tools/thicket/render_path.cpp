@@ -112,7 +112,9 @@ int run_light_render(const std::string& scene_name, const AccelChoice& accel_cho
     // Every option is checked before the slow work.
     const Integrator integrator = parse_integrator(args.integrator);
     if (args.spp < 1) throw Error("--spp must be at least 1");
-    if (!(args.time >= 0.0) || !std::isfinite(args.time)) throw Error("--time must be a number of seconds >= 0");
+    if (std::isnan(args.time)) throw Error("--time nan is not a number of seconds");
+    if (!(args.time >= 0.0)) throw Error("--time " + std::to_string(args.time) + " is negative: give seconds >= 0");
+    if (!std::isfinite(args.time)) throw Error("--time is infinite (beyond double's range): give a finite number of seconds");
     const float exposure = checked_exposure(args.exposure);
     if (args.max_depth < 1) throw Error("--max-depth must be at least 1");
     const bool exr = output_image_format(output) == ImageFormat::Exr;
