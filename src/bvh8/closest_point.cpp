@@ -77,7 +77,7 @@ float closest_in_blocks(void* query, uint32_t first, uint32_t size) {
             const Vec3 v2{b.v[2][0][lane], b.v[2][1][lane], b.v[2][2][lane]};
             // Triangles::closest_point's expression, operation for operation.
             const TrianglePoint t = closest_point_on_triangle(q.p, v0, v1, v2);
-            const float d = length(q.p - t.point);
+            const float d = point_distance(q.p, t.point);
             if (d < q.best.distance || (d == q.best.distance && id < q.best.prim)) q.best = {t.point, d, t.u, t.v, id};
         }
     }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <limits>
 #include <vector>
@@ -23,6 +24,20 @@ std::string_view trim(std::string_view s) {
     return s;
 }
 
+/// v / |v| without overflow: |v| squares the components, which passes float's range once one
+/// exceeds 1.8e19 (a target at 1e20 gave a zero forward vector and NaN rays), so v is first
+/// divided by its largest component.
+Vec3 unit(Vec3 v) {
+    const float m = std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
+    return m > 0.0f ? normalize(v / m) : v;
+}
+
+std::string vec_text(Vec3 v) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "(%g, %g, %g)", double(v.x), double(v.y), double(v.z));
+    return buf;
+}
+
 }  // namespace
 
 Camera::Camera(Vec3 position, Vec3 target, Vec3 up, float fov_degrees)
@@ -32,18 +47,23 @@ Camera::Camera(Vec3 position, Vec3 target, Vec3 up, float fov_degrees)
     if (!(fov_degrees > 0.0f && fov_degrees < 180.0f))
         throw Error("camera: field of view " + std::to_string(fov_degrees) + " is not in (0, 180) degrees");
     const Vec3 view = target - position;
-    if (!(length(view) > 0.0f)) throw Error("camera: position and target are the same point");
-    forward_ = normalize(view);
+    if (view == Vec3{0.0f}) throw Error("camera: position and target are the same point");
+    if (!finite(view))
+        throw Error("camera: from " + vec_text(position) + " to " + vec_text(target) +
+                    " the view direction passes float's range (3.4e38): bring the target closer");
+    forward_ = unit(view);
     // Looking straight up or down leaves `up` undefined; fall back to the axis pointing "away".
     const Vec3 candidates[] = {up, forward_.y <= 0.0f ? Vec3{0, 0, -1} : Vec3{0, 0, 1}, Vec3{0, 1, 0}};
     for (const Vec3& c : candidates) {
-        const Vec3 r = cross(forward_, c);
-        if (length(r) > 1e-6f * std::max(1.0f, length(c))) {
-            right_ = normalize(r);
+        const Vec3 r = cross(forward_, unit(c));  // unit: a huge `up` must not overflow either
+        if (length(r) > 1e-6f) {
+            right_ = unit(r);
             break;
         }
     }
     up_ = cross(right_, forward_);
+    if (!finite(forward_) || !finite(right_) || !finite(up_) || right_ == Vec3{0.0f})
+        throw Error("camera: no view frame from " + vec_text(position) + " toward " + vec_text(target));
     tan_half_ = std::tan(0.5f * fov_ * kPi / 180.0f);
 }
 

@@ -1,10 +1,12 @@
 #include "thicket/render/film.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <string>
 
 #include <tinyexr.h>
@@ -33,6 +35,17 @@ Image tonemap_srgb(const std::vector<Vec3>& radiance, int width, int height, flo
     return image;
 }
 
+ImageFormat image_format_of(const std::string& path) {
+    const std::string name = std::filesystem::path(path).filename().string();
+    const size_t dot = name.rfind('.');
+    std::string ext = dot == std::string::npos || dot == 0 ? "" : name.substr(dot);
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    if (ext == ".png") return ImageFormat::Png;
+    if (ext == ".exr") return ImageFormat::Exr;
+    throw Error(path + ": " + (ext.empty() ? std::string("no extension") : "the extension '" + name.substr(dot) + "'") +
+                " names no image format thicket writes: use .png (8-bit sRGB) or .exr (linear float)");
+}
+
 void write_exr(const std::vector<Vec3>& radiance, int width, int height, const std::string& path, float exposure) {
     if (width < 1 || height < 1 || radiance.size() != size_t(width) * size_t(height))
         throw Error(path + ": " + std::to_string(radiance.size()) + " pixels for a " + std::to_string(width) + "x" +
@@ -40,6 +53,13 @@ void write_exr(const std::vector<Vec3>& radiance, int width, int height, const s
     std::vector<float> rgb(radiance.size() * 3);
     for (size_t i = 0; i < radiance.size(); ++i) {
         const Vec3 c = radiance[i] * exposure;
+        if (!(std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z)) && std::isfinite(radiance[i].x) &&
+            std::isfinite(radiance[i].y) && std::isfinite(radiance[i].z)) {
+            char buf[160];
+            std::snprintf(buf, sizeof buf, "exposure %g times pixel %zu's radiance (%g, %g, %g) passes float's range (3.4e38)",
+                          double(exposure), i, double(radiance[i].x), double(radiance[i].y), double(radiance[i].z));
+            throw Error(path + ": " + buf);
+        }
         rgb[3 * i] = c.x;
         rgb[3 * i + 1] = c.y;
         rgb[3 * i + 2] = c.z;

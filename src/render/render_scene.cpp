@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "thicket/core/error.h"
+#include "thicket/util/input_file.h"
 #include "thicket/render/sampling.h"
 #include "thicket/scene/material_ranges.h"
 
@@ -38,6 +39,16 @@ Camera cornell_camera() { return Camera({0.0f, 1.0f, 3.5f}, {0.0f, 1.0f, 0.0f}, 
 SpheresScene make_spheres_scene(uint32_t count, uint32_t lights, uint64_t seed) {
     if (count == 0) throw Error("spheres scene: the sphere count must be at least 1");
     if (lights > 64) throw Error("spheres scene: at most 64 lights (asked for " + std::to_string(lights) + ")");
+    // Primitive ids are 32-bit: the ground's two triangles, the spheres and the lights must fit.
+    if (uint64_t(count) + lights + 2 > uint64_t(kNoPrim))
+        throw Error("spheres scene: " + std::to_string(count) + " spheres and " + std::to_string(lights) +
+                    " lights exceed the 2^32 - 1 primitive ids a scene holds");
+    // Each sphere costs its shape, material and id here, and about kStructureBytes more in any
+    // structure built over it (nodes, build references): refuse before allocating, not with bad_alloc.
+    constexpr uint64_t kStructureBytes = 128;
+    const uint64_t per_sphere = sizeof(Shape) + sizeof(SurfaceMaterial) + sizeof(uint32_t) + kStructureBytes;
+    check_memory((uint64_t(count) + lights) * per_sphere,
+                 "spheres scene: " + std::to_string(count) + " spheres (" + std::to_string(per_sphere) + " bytes each)");
     SpheresScene out;
     Rng rng = Rng::for_sample(seed, 0xC0FFEE, 0);
     // The spheres lie on a square of side proportional to sqrt(count), so density stays the same.

@@ -4,7 +4,9 @@
 
 #include <random>
 
+#include "thicket/accel/registry.h"
 #include "thicket/core/closest_point.h"
+#include "thicket/scene/scene.h"
 
 namespace thicket {
 namespace {
@@ -62,6 +64,46 @@ TEST(ClosestPoint, BoxDistance) {
     const Aabb box{{0, 0, 0}, {1, 1, 1}};
     EXPECT_EQ(distance2_to_box({0.5f, 0.5f, 0.5f}, box), 0.0f);
     EXPECT_FLOAT_EQ(distance2_to_box({2, 0.5f, 3}, box), 1.0f + 4.0f);
+}
+
+// Issue 31: the region tests multiply four coordinate differences; in float a unit triangle seen
+// from 1e20, or a 2e10 triangle from 4e10, overflowed to inf and NaN and picked a wrong region.
+TEST(ClosestPoint, FarPointsAndLargeTrianglesStayExact) {
+    const TrianglePoint far = closest_point_on_triangle({1e20f, 0, 0}, A, B, C);
+    expect_point(far, B, 1, 0);
+    EXPECT_FLOAT_EQ(point_distance({1e20f, 0, 0}, far.point), 1e20f);
+    const float s = 1e10f;
+    const TrianglePoint face = closest_point_on_triangle({0.5f * s, 0.5f * s, 4 * s}, A * s, B * s, C * s);
+    EXPECT_NEAR(face.u, 0.25f, 1e-6f);
+    EXPECT_NEAR(face.v, 0.25f, 1e-6f);
+    EXPECT_FLOAT_EQ(face.point.z, 0.0f);
+    EXPECT_FLOAT_EQ(point_distance({0.5f * s, 0.5f * s, 4 * s}, face.point), 4 * s);
+    // A box's squared distance past float's range stays finite (and ordered) in double.
+    const Aabb box{{0, 0, 0}, {1, 1, 1}};
+    const double d = double(1e20f) - 1.0;
+    EXPECT_DOUBLE_EQ(distance2_to_box({1e20f, 0.5f, 0.5f}, box), d * d);
+    EXPECT_LT(distance2_to_box({1e20f, 0.5f, 0.5f}, box), distance2_to_box({2e20f, 0.5f, 0.5f}, box));
+}
+
+// The conformance rule for far points: every structure answers brute force's primitive, with a
+// finite distance; before, bvh and bvh8 answered prim 0 at distance inf and brute force nothing.
+TEST(ClosestPoint, FarPointsGetBruteForcesPrimitiveFromEveryStructure) {
+    const Scene scene = load_scene("cornell");
+    const std::unique_ptr<Accel> brute = build_accel("brute", scene);
+    const Vec3 points[] = {{1e20f, 0, 0}, {0, 1e20f, 0}, {-3e19f, 2e19f, 1e20f}, {0.3f, -1e25f, 0.2f}, {3e38f, 3e38f, 3e38f}};
+    for (const char* spec : {"bvh", "bvh8"}) {
+        const std::unique_ptr<Accel> accel = build_accel(spec, scene);
+        for (const Vec3& p : points) {
+            const NearestPoint want = brute->closest_point(p), got = accel->closest_point(p);
+            ASSERT_TRUE(want.found()) << p.x << "," << p.y << "," << p.z;
+            EXPECT_EQ(got.prim, want.prim) << spec << " at " << p.x << "," << p.y << "," << p.z;
+            EXPECT_EQ(got.distance, want.distance) << spec;
+            if (max_component(abs(p)) < 1e30f) {
+                EXPECT_TRUE(std::isfinite(got.distance)) << spec;
+                EXPECT_NEAR(got.distance / length(p / 1e20f), 1e20f, 1e15f) << spec;
+            }
+        }
+    }
 }
 
 }  // namespace

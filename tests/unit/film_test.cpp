@@ -4,6 +4,7 @@
 #include <tinyexr.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,46 @@ TEST(Film, ExrErrorsNameTheFile) {
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("6 pixels for a 4x2 image"), std::string::npos) << e.what();
     }
+}
+
+// Issue 31: the format follows the extension (any case), and anything else is refused naming it,
+// where x.jpg used to receive PNG bytes.
+TEST(Film, FormatByExtension) {
+    EXPECT_EQ(image_format_of("a/b.png"), ImageFormat::Png);
+    EXPECT_EQ(image_format_of("B.PNG"), ImageFormat::Png);
+    EXPECT_EQ(image_format_of("x.exr"), ImageFormat::Exr);
+    EXPECT_EQ(image_format_of("dir.png/x.Exr"), ImageFormat::Exr);
+    for (const char* bad : {"x.jpg", "x.png.bak", "noext", "dir.exr/", ".png"}) {
+        try {
+            image_format_of(bad);
+            ADD_FAILURE() << bad << " was accepted";
+        } catch (const Error& e) {
+            const std::string what = e.what();
+            EXPECT_NE(what.find(bad), std::string::npos) << what;
+            EXPECT_NE(what.find(".png"), std::string::npos) << what;
+            EXPECT_NE(what.find(".exr"), std::string::npos) << what;
+        }
+    }
+}
+
+// An exposure that carries a finite radiance past float's range is refused naming the pixel
+// (it wrote +inf into the file); radiance already infinite is the renderer's, written as is.
+TEST(Film, ExrRefusesAnExposureThatOverflows) {
+    const testing::TempDir dir("thicket_film");
+    std::vector<Vec3> radiance(6, Vec3{0.5f});
+    radiance[4] = Vec3{1e30f, 0.0f, 2.0f};
+    const std::string path = dir.dir() + "/big.exr";
+    try {
+        write_exr(radiance, 3, 2, path, 1e10f);
+        ADD_FAILURE() << "wrote an infinite pixel";
+    } catch (const Error& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("pixel 4"), std::string::npos) << what;
+        EXPECT_NE(what.find("exposure 1e+10"), std::string::npos) << what;
+    }
+    EXPECT_FALSE(std::filesystem::exists(path));
+    write_exr(radiance, 3, 2, path, 1e8f);  // 1e38 still fits
+    EXPECT_TRUE(std::filesystem::exists(path));
 }
 
 }  // namespace

@@ -109,6 +109,30 @@ TEST(Camera, LookingStraightDownStillHasAnUpVector) {
     EXPECT_THROW(Camera({0, 0, 1}, {0, 0, 0}, {0, 1, 0}, 180), Error);
 }
 
+// Issue 31: a target at 1e20 squared to inf in the normalisation, leaving a zero forward vector
+// and NaN rays. The far target now gives exactly the view of a near one on the same line, and a
+// view direction that itself passes float's range is refused naming the points.
+TEST(Camera, FarTargetsKeepTheirDirection) {
+    const Camera near({0, 1, 3.5f}, {0, 1, 0}), far({0, 1, 3.5f}, {0, 1, -1e20f}), side({0, 1, 3.5f}, {1e20f, 1, 3.5f});
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x) {
+            const Ray a = near.generate(float(x) + 0.5f, float(y) + 0.5f, 4, 4);
+            const Ray b = far.generate(float(x) + 0.5f, float(y) + 0.5f, 4, 4);
+            EXPECT_EQ(a.dir, b.dir) << x << "," << y;
+            const Ray c = side.generate(float(x) + 0.5f, float(y) + 0.5f, 4, 4);
+            EXPECT_TRUE(std::isfinite(c.dir.x) && std::isfinite(c.dir.y) && std::isfinite(c.dir.z));
+            EXPECT_NEAR(length(c.dir), 1.0f, 1e-6f);
+        }
+    EXPECT_EQ(side.forward(), (Vec3{1, 0, 0}));
+    EXPECT_EQ(Camera({0, 0, 0}, {0, 0, 1e-30f}).forward(), (Vec3{0, 0, 1}));  // tiny views too
+    try {
+        Camera({-3e38f, 0, 0}, {3e38f, 0, 0});
+        ADD_FAILURE() << "a view direction of 6e38 was accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("passes float's range"), std::string::npos) << e.what();
+    }
+}
+
 TEST(Camera, AutoCameraSeesTheWholeBox) {
     const Aabb boxes[] = {
         {{-1.02f, 0, -1.04f}, {1, 1.99f, 0.99f}},            // Cornell box

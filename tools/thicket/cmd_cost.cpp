@@ -10,6 +10,7 @@
 #include "thicket/bench/text_table.h"
 #include "thicket/core/error.h"
 #include "thicket/render/render_scene.h"
+#include "thicket/util/input_file.h"
 #include "thicket/util/parallel.h"
 #include "thicket/util/progress.h"
 
@@ -83,8 +84,14 @@ int run_cost(const CostArgs& args) {
     const int side = int(std::lround(std::sqrt(double(args.pixels))));
     if (side < 1) throw Error("--pixels must be at least 1");
     const std::vector<AskedSpec> specs = parse_accel_specs(args.accels);
-    const SpheresScene s = make_spheres_scene(args.spheres, args.lights, args.seed);
     const uint64_t pixels = uint64_t(side) * uint64_t(side);
+    // The camera rays and their hits, then up to one shadow ray and flag per light and pixel:
+    // checked before the scene is made, so that no count reaches std::bad_alloc.
+    if (args.lights <= 64)
+        check_memory(pixels * (sizeof(Ray) + sizeof(Hit)) + pixels * args.lights * (sizeof(Ray) + 1),
+                     "--pixels " + std::to_string(args.pixels) + " with --lights " + std::to_string(args.lights) +
+                         ": the camera and shadow rays");
+    const SpheresScene s = make_spheres_scene(args.spheres, args.lights, args.seed);
     const double spheres_total = double(s.scene.shapes.size());  // the lights are spheres too
     const double analytic = double(pixels) * (1.0 + args.lights) * spheres_total;
     std::printf("scene   spheres: %u spheres, %u light spheres and a ground of 2 triangles (%zu spheres in all), seed %llu\n",
@@ -154,16 +161,23 @@ Command add_cost_command(CLI::App& app) {
                 "spheres (every ray tests every sphere); the counted figures come from the structures' RayCounters "
                 "(shadow rays stop at their first hit, and rays that miss cast no shadow rays, so brute force "
                 "counts fewer than the estimate).");
-    cmd->add_option("--pixels", args->pixels, "camera rays (a square image of about this many pixels)")
+    cmd->add_option("--pixels", args->pixels, "camera rays (a square image of about this many pixels, 1 to 100000000)")
+        ->check(whole_number(0, UINT64_MAX))
         ->default_str("1000000")
         ->type_name("N");
-    cmd->add_option("--spheres", args->spheres, "spheres in the scene (besides the ground and the lights)")
+    cmd->add_option("--spheres", args->spheres, "spheres in the scene (besides the ground and the lights; checked "
+                                                "against the memory available)")
+        ->check(whole_number(0, UINT32_MAX))
         ->default_str("1000")
         ->type_name("N");
-    cmd->add_option("--lights", args->lights, "lights (small spheres), one shadow ray each per hit")
+    cmd->add_option("--lights", args->lights, "lights (small spheres, at most 64), one shadow ray each per hit")
+        ->check(whole_number(0, UINT32_MAX))
         ->default_str("4")
         ->type_name("N");
-    cmd->add_option("--seed", args->seed, "scene seed (placement and colours)")->default_str("1")->type_name("S");
+    cmd->add_option("--seed", args->seed, "scene seed (placement and colours), 0 to 2^64 - 1")
+        ->check(whole_number(0, UINT64_MAX))
+        ->default_str("1")
+        ->type_name("S");
     cmd->add_option("-a,--accel", args->accels, "structures to measure (repeatable; `all`: every registered variant)")
         ->default_str("brute bvh8")
         ->type_name("SPEC");

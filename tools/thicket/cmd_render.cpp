@@ -8,6 +8,7 @@
 #include "common.h"
 #include "render_path.h"
 #include "thicket/core/error.h"
+#include "thicket/render/render_scene.h"
 #include "thicket/render/views.h"
 #include "thicket/util/progress.h"
 
@@ -35,12 +36,19 @@ std::string vec_text(Vec3 v) {
     return buf;
 }
 
-int run_render(const RenderArgs& args) {
-    // Check every option before the slow work, so a typo costs nothing.
+int run_render(const CLI::App* cmd, const RenderArgs& args) {
+    // Check every option before the slow work, so a typo costs nothing; an option that does not
+    // apply is refused rather than ignored.
     RenderOptions options;
     options.view = parse_view(args.view);
     parse_image_size(args.size, options.width, options.height);
+    refuse_light_options_that_do_not_apply(cmd, args.scene, args.light);
+    refuse_output_is_input(args.output, {args.scene, args.accel.load});  // the worse mistake, named first
+    const ImageFormat format = output_image_format(args.output);
     if (!args.light.integrator.empty()) {
+        for (const char* o : {"--view", "--heat-max", "--no-legend"})
+            refuse_if_given(cmd, o, "it belongs to the preview views; --integrator " + args.light.integrator +
+                                    " renders with light");
         const std::string output = prepare_output(args.output, args.force, {args.scene, args.accel.load});
         return run_light_render(args.scene, args.accel, options.width, options.height, args.camera, output,
                                 args.threads, args.light);
@@ -48,13 +56,32 @@ int run_render(const RenderArgs& args) {
     options.threads = args.threads;
     options.heat_max = args.heat_max;
     options.legend = !args.no_legend;
-    if (!(args.heat_max >= 0.0)) throw Error("--heat-max must be a number of nodes >= 0 (0: the image's maximum)");
+    if (!(args.heat_max >= 0.0) || !std::isfinite(args.heat_max))
+        throw Error("--heat-max " + std::to_string(args.heat_max) +
+                    " is not a finite node count >= 0 (0: the image's maximum)");
+    if (options.view != View::Heatmap)
+        for (const char* o : {"--heat-max", "--no-legend"})
+            refuse_if_given(cmd, o, "it sets the heatmap's colour scale; the view is " + args.view);
+    if (format == ImageFormat::Exr)
+        throw Error(args.output + ": the preview views are 8-bit pictures, written as .png; .exr (linear float) is "
+                    "for --integrator path|whitted");
     std::optional<Camera> camera;
     if (!args.camera.empty()) camera = parse_camera(args.camera);
     const std::optional<AccelSpec> spec = validate_accel_choice(args.accel);
     const std::string output = prepare_output(args.output, args.force, {args.scene, args.accel.load});
 
-    const Scene scene = load_scene_verbose(args.scene);
+    // `spheres`: the generated scene of --integrator, seen by the preview from its own camera.
+    std::optional<SpheresScene> spheres;
+    Scene loaded;
+    if (args.scene == "spheres" && !std::filesystem::exists(args.scene)) {
+        spheres = make_spheres_scene(args.light.spheres, args.light.lights, args.light.scene_seed);
+        std::printf("scene   spheres: %u spheres on a ground square, %u lights, scene seed %llu\n", args.light.spheres,
+                    args.light.lights, static_cast<unsigned long long>(args.light.scene_seed));
+        if (!camera) camera = spheres->camera;
+    } else {
+        loaded = load_scene_verbose(args.scene);
+    }
+    const Scene& scene = spheres ? spheres->scene : loaded;
     const std::unique_ptr<Accel> accel = make_accel_verbose(args.accel, spec, scene, args.threads);
     if (!camera) camera = auto_camera(scene.bounds(), float(options.width) / float(options.height));
     // Rays from or toward coordinates past 1e18 overflow float in the triangle test: the image
@@ -115,13 +142,14 @@ Command add_render_command(CLI::App& app) {
         ->type_name("N");
     cmd->add_flag("--no-legend", args->no_legend, "heatmap: leave out the colour-bar legend");
     cmd->add_option("-o,--output", args->output,
-                    "PNG file to write (its directory is created if missing; - for stdout)")
+                    "image to write, its format by extension: .png, or .exr with --integrator (its directory is "
+                    "created if missing; - for stdout, PNG)")
         ->default_str("render.png")
         ->type_name("FILE");
     cmd->add_flag("-f,--force", args->force, kForceHelp);
     add_threads_option(cmd, args->threads);
     add_light_render_options(cmd, args->light);
-    return {cmd, [args] { return run_render(*args); }};
+    return {cmd, [cmd, args] { return run_render(cmd, *args); }};
 }
 
 }  // namespace thicket::cli

@@ -7,6 +7,7 @@
 #include "common.h"
 #include "thicket/accel/ray_rows.h"
 #include "thicket/core/error.h"
+#include "thicket/util/input_file.h"
 #include "thicket/util/npy.h"
 #include "thicket/util/progress.h"
 
@@ -41,6 +42,17 @@ void write_crossings(const TraceArgs& args, const std::string& output, const Acc
                     format_duration(ms_since(start) / 1000).c_str());
         write_npy_u32(output, counts);
         return;
+    }
+    // The lists' size is known only once traced: count first (4 bytes a ray), and check what the
+    // lists will take (each crossing is held by its chunk, then in the merged list, then as a
+    // 20-byte record; a chunk's vector may hold twice its size while it grows) before listing.
+    {
+        std::vector<uint32_t> counts(rows.count);
+        crossing_counts(accel, rows, counts, batch);
+        uint64_t total = 0;
+        for (uint32_t c : counts) total += c;
+        check_memory(total * (3 * sizeof(Hit) + 20),
+                     "--all: " + std::to_string(total) + " crossings of " + std::to_string(rows.count) + " rays");
     }
     const HitLists lists = crossing_lists(accel, rows, batch);
     std::vector<unsigned char> records(lists.hits.size() * 20);
@@ -140,7 +152,8 @@ Command add_trace_command(CLI::App& app) {
     cmd->add_flag("-f,--force", args->force, kForceHelp);
     cmd->add_flag("--any-hit", args->any_hit, "only ask whether each ray is blocked (faster), write a uint8 array");
     cmd->add_flag("--count", args->count, "count every surface crossing of each ray, write a uint32 array");
-    cmd->add_flag("--all", args->all, "list every surface crossing of each ray, write (ray, t, prim, u, v) records");
+    cmd->add_flag("--all", args->all, "list every surface crossing of each ray, write (ray, t, prim, u, v) records "
+                                      "(counted first: refused when the list would not fit in memory)");
     cmd->add_flag("--coherent", args->coherent,
                   "a hint that consecutive rays are neighbours (a camera's pixels in 4x4 tiles, or along a row): "
                   "structures with a packet path (bvh8) then trace 16 at a time; the answers are the same");

@@ -1,6 +1,7 @@
 #include "common.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <chrono>
 #include <cstdio>
@@ -44,9 +45,37 @@ void add_accel_options(CLI::App* cmd, AccelChoice& choice, bool accel_required) 
 }
 
 void add_threads_option(CLI::App* cmd, unsigned& threads) {
-    cmd->add_option("-j,--threads", threads, "worker threads (0: one per core)")
+    cmd->add_option("-j,--threads", threads, "worker threads (0: one per core; at most " + std::to_string(kMaxThreads) + ")")
+        ->check(whole_number(0, kMaxThreads))
         ->default_str("0")
         ->type_name("N");
+}
+
+CLI::Validator whole_number(uint64_t min, uint64_t max) {
+    const std::string range = std::to_string(min) + " to " + std::to_string(max);
+    return CLI::Validator(
+        [=](std::string& text) -> std::string {
+            const std::string quoted = "'" + text + "'";
+            if (text.empty()) return "an empty value: expected a whole number from " + range;
+            if (text[0] == '-' && text.find_first_not_of("0123456789", 1) == std::string::npos && text.size() > 1)
+                return quoted + " is negative: expected a whole number from " + range;
+            if (text.find_first_not_of("0123456789") != std::string::npos)
+                return quoted + " is not a whole number written in digits (no sign, fraction or exponent): expected " +
+                       range;
+            uint64_t value = 0;
+            const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+            if (ec == std::errc::result_out_of_range || value > max)
+                return quoted + " is larger than " + std::to_string(max) + ": expected a whole number from " + range;
+            if (ec != std::errc() || end != text.data() + text.size()) return quoted + " is not a whole number";
+            if (value < min) return quoted + " is smaller than " + std::to_string(min) + ": expected " + range;
+            return {};
+        },
+        "", "whole number");
+}
+
+void refuse_if_given(const CLI::App* cmd, const std::string& option, const std::string& why) {
+    const CLI::Option* o = cmd->get_option_no_throw(option);
+    if (o && o->count() > 0) throw Error(option + " does not apply here: " + why);
 }
 
 std::optional<AccelSpec> validate_accel_choice(const AccelChoice& choice) {
@@ -82,6 +111,11 @@ VertexCounts count_bad_vertices(const Scene& scene) {
 }
 
 Scene load_scene_verbose(const std::string& path) {
+    std::error_code ec;
+    if (path == "spheres" && !std::filesystem::exists(path, ec))
+        throw Error("spheres: the lecture's generated scene (--spheres N spheres, --lights N lights) exists only "
+                    "in `thicket render` and `thicket cost`; this command loads files and the built-in scenes (" +
+                    std::string(builtin_scene_names()) + ")");
     const auto start = std::chrono::steady_clock::now();
     Scene scene = load_scene(path);
     const VertexCounts bad = count_bad_vertices(scene);

@@ -43,13 +43,26 @@ std::string scene_help();
 void add_scene_argument(CLI::App* cmd, std::string& scene);
 /// Adds --accel and --load; `accel_required` makes --accel mandatory (and omits --load).
 void add_accel_options(CLI::App* cmd, AccelChoice& choice, bool accel_required = false);
-/// Adds --threads N (0, the default, uses every core).
+/// Adds --threads N (0, the default, uses every core; at most kMaxThreads).
 void add_threads_option(CLI::App* cmd, unsigned& threads);
+/// Largest --threads: each worker costs a stack and a start-up, and beyond a few per core they
+/// only add that cost (100,000 would be taken at its word and reported).
+inline constexpr unsigned kMaxThreads = 1024;
+
+/// A CLI11 check run on the option's text before conversion: a whole number written in digits
+/// (no sign, fraction or exponent) within [min, max]. Without it CLI11 wraps -1 to 2^64 - 1 and
+/// saturates 1e23; with it the error says which of those the text is.
+CLI::Validator whole_number(uint64_t min, uint64_t max);
+
+/// Throws Error "OPTION does not apply here: WHY" when `option` (its long name, e.g. "--spp") was
+/// given on cmd's command line: an option that would be silently ignored is refused instead.
+void refuse_if_given(const CLI::App* cmd, const std::string& option, const std::string& why);
 
 /// Parses --accel's spec before any slow work, so a typo fails at once (throws Error). Returns
 /// the parsed spec for make_accel_verbose() (the spec is parsed once); nullopt with --load.
 std::optional<AccelSpec> validate_accel_choice(const AccelChoice& choice);
-/// Loads the scene and prints one line about it, and a warning on stderr when vertices are NaN,
+/// Loads the scene and prints one line about it (for the name `spheres`, when no such file exists,
+/// throws Error saying which commands generate that scene), and a warning on stderr when vertices are NaN,
 /// infinite (1e40 in a file is infinite as a float) or beyond kLargeCoordinate.
 Scene load_scene_verbose(const std::string& path);
 

@@ -63,7 +63,9 @@ public:
             NearestPoint best;
             for (uint32_t i = 0, n = uint32_t(prims_.size()); i < n; ++i) {
                 const NearestPoint s = prims_.closest_point(i, p);
-                if (s.distance < best.distance) best = s;
+                // The first of equal distances; at +inf too (a distance beyond float's range), so
+                // that such a point still gets a primitive, the one every structure answers.
+                if (s.distance < best.distance || (s.distance == best.distance && !best.found())) best = s;
             }
             return best;
         } else {

@@ -8,11 +8,12 @@ namespace thicket {
 
 template <HasClosestPoint Prims>
 NearestPoint bvh_closest_point(const BvhData& data, const Prims& prims, const Vec3& p) {
+    constexpr double kBoxSlack = 1.0 + 1.0 / 65536.0;
     NearestPoint best;
     if (data.nodes_used == 0) return best;
     struct Entry {
         uint32_t node;
-        float distance;  // from p to the node's box: a lower bound of everything inside
+        double distance;  // from p to the node's box, a lower bound of everything inside (double: no overflow)
     };
     // Each step pops one entry and pushes at most two, so the stack holds at most depth + 1.
     Entry stack[kTraversalStackSize];
@@ -20,7 +21,9 @@ NearestPoint bvh_closest_point(const BvhData& data, const Prims& prims, const Ve
     stack[top++] = {0, std::sqrt(distance2_to_box(p, data.nodes[0].bounds()))};
     while (top > 0) {
         const Entry e = stack[--top];
-        if (e.distance > best.distance) continue;
+        // The slack covers the box's and the triangle's distances rounding apart: a box holding a
+        // triangle exactly as close as the best (a shared vertex, which the lower id wins) stays open.
+        if (e.distance > double(best.distance) * kBoxSlack) continue;
         const BvhNode& node = data.nodes[e.node];
         if (node.is_leaf()) {
             for (uint32_t k = node.leftFirst; k < node.leftFirst + node.count; ++k) {

@@ -58,7 +58,7 @@ public:
     NearestPoint closest_point(uint32_t i, const Vec3& p) const {
         const Tri& tri = tris_[i];
         const TrianglePoint q = closest_point_on_triangle(p, tri.v0, tri.v1, tri.v2);
-        return {q.point, length(p - q.point), q.u, q.v, i};
+        return {q.point, point_distance(p, q.point), q.u, q.v, i};
     }
     /// Any-hit: is primitive i hit within [ray.tmin, ray.tmax]?
     bool occludes(uint32_t i, const Ray& ray) const {

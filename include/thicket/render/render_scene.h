@@ -41,7 +41,9 @@ Camera cornell_camera();
 /// The lecture's example scene: `count` diffuse spheres of random colour and size scattered by
 /// `seed` over a ground square (two triangles, primitive ids 0 and 1), with `lights` small
 /// spherical area lights above them (the last `lights` shapes). The same
-/// (count, lights, seed) always gives the same scene. Throws Error if count is 0 or lights > 64.
+/// (count, lights, seed) always gives the same scene. Throws Error if count is 0, lights > 64, the
+/// ids would pass 2^32 - 1, or the scene (and a structure over it) would not fit in memory
+/// (check_memory, before allocating).
 struct SpheresScene {
     Scene scene;
     std::vector<SurfaceMaterial> materials;
