@@ -427,12 +427,13 @@ TEST(LightTransportDirect, SphereLightSamplingEstimatesTheClosedFormRadiance) {
     }
 }
 
-// Fails today (2026-12-03): the image comes out 2.4% dark (8.21 against 8.42 over the image, 45
+// Fails today (2026-12-03): the image comes out 2.5% dark (8.21 against 8.42 over the image, 22
 // SE), with LightOnly as dark and BsdfOnly right (the test above). The sphere shadows its own
 // light samples: shadow_ray() (src/render/trace_common.h) moves the origin ray_epsilon along n
-// but keeps the tmax measured from p, and for directions near the sphere's silhouette the moved
-// ray meets the sphere up to 2e-3 sooner than tmax; 1.6% of the samples from under the light and
-// 4% from farther off are lost so. Enable once shadow rays stop short of the sampled point.
+// but keeps the direction and the tmax measured from p, and for directions near the sphere's
+// silhouette the moved ray meets the sphere up to 2e-3 sooner than tmax; 1.6% of the samples from
+// under the light and 4% from farther off are lost so. Aiming the moved ray at the sampled point
+// (direction and length from the moved origin) makes this pass. Enable with that fix.
 TEST(LightTransportDirect, DISABLED_PathTracerRendersASphereLightOverALambertianPlane) {
     // Next event estimation and BSDF hits on the sphere, weighted by MIS: only both together
     // with weights summing to 1 give the closed form.
