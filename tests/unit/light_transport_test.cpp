@@ -61,7 +61,7 @@ TEST(LightTransportFresnel, TabulatedValuesOfGlass) {
 TEST(LightTransportFresnel, MatchesTheAngleFormEnteringAndLeavingGlass) {
     // Entering (eta = 1.5) and leaving (eta = 1/1.5) at Brewster's angle of each side, 45 deg,
     // and a spread of angles; leaving past the critical angle (41.8 deg) reflects everything.
-    // The bound 2e-6 is float rounding of R in [0, 1]; a swapped cosine in one term is off by 1e-2.
+    // The bound 2e-6 is float rounding of R in [0, 1]; a swapped cosine in one term is off by far more.
     struct Side {
         double n_i, n_t;
     };
@@ -84,8 +84,9 @@ TEST(LightTransportFresnel, MatchesTheAngleFormEnteringAndLeavingGlass) {
 }
 
 /// Lights for the pdf checks: a one-sided emissive triangle (prim 0, facing down onto the points
-/// below y = 2), an emissive sphere (prim 1) and a point light, none shadowing another from the
-/// shading points used.
+/// below y = 2), an emissive sphere (prim 1) and a point light. Light sampling ignores
+/// occlusion, so the checks find a light's point by rays that start just short of it or go on
+/// through the other light.
 struct LightScene {
     Scene scene;
     RenderScene rs;
