@@ -51,9 +51,20 @@ inline Ray spawn_ray(Vec3 p, Vec3 n, Vec3 dir) {
 }
 
 /// A shadow ray from p toward a light point `distance` away along unit `dir`, stopping short of it.
+/// It is aimed from its offset origin at the light point itself: kept parallel to `dir`, the offset
+/// ray met a sphere light before its stopping distance near the sphere's rim, and 1.6-4% of a
+/// sphere light's samples were shadowed by the light itself (LightTransport's closed-form test).
 inline Ray shadow_ray(Vec3 p, Vec3 n, Vec3 dir, float distance) {
     Ray r = spawn_ray(p, n, dir);
-    r.tmax = std::max(0.0f, distance * (1.0f - 1e-4f) - 2.0f * ray_epsilon(p));
+    if (!std::isfinite(distance)) return r;  // a light at infinity: nothing to aim at
+    const Vec3 to_light = p + dir * distance - r.org;
+    const float length_to_light = length(to_light);
+    if (!(length_to_light > 0.0f)) {
+        r.tmax = 0.0f;
+        return r;
+    }
+    r.dir = to_light / length_to_light;
+    r.tmax = std::max(0.0f, length_to_light * (1.0f - 1e-4f) - 2.0f * ray_epsilon(p));
     return r;
 }
 

@@ -22,7 +22,7 @@
 #include <utility>
 #include <vector>
 
-#include "support/cli_run.h"
+#include "support/cli_dir_test.h"
 #include "support/probe.h"
 #include "thicket/accel/registry.h"
 #include "thicket/util/npy.h"
@@ -133,22 +133,8 @@ size_t png_size(const std::string& path, int& width, int& height) {
     return bytes.size();
 }
 
-class CliTest : public ::testing::Test {
+class CliTest : public thicket::testing::CliDirTest {
 protected:
-    void SetUp() override {
-        if (std::string(THICKET_CLI).empty()) GTEST_SKIP() << "the thicket executable was not built";
-        dir_ = fs::temp_directory_path() /
-               ("thicket_cli_test_" + std::to_string(getpid()) + "_" +
-                ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override {
-        if (!dir_.empty()) fs::remove_all(dir_);
-    }
-
-    std::string path(const std::string& name) const { return (dir_ / name).string(); }
-    std::string q(const std::string& name) const { return quote(path(name)); }
     // Nothing but `expected` files in the directory (no outputs or temporaries of failed runs).
     void expect_only(std::vector<std::string> expected) const {
         std::vector<std::string> names;
@@ -157,8 +143,6 @@ protected:
         std::sort(expected.begin(), expected.end());
         EXPECT_EQ(names, expected);
     }
-
-    fs::path dir_;
 };
 
 }  // namespace

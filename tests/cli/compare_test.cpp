@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "support/cli_run.h"
+#include "support/cli_dir_test.h"
 #include "support/xml_check.h"
 #include "thicket/accel/registry.h"
 
@@ -51,25 +51,7 @@ std::vector<std::string> words(const std::string& line) {
     return {std::istream_iterator<std::string>(in), std::istream_iterator<std::string>()};
 }
 
-class CompareCliTest : public ::testing::Test {
-protected:
-    void SetUp() override {
-        if (std::string(THICKET_CLI).empty()) GTEST_SKIP() << "the thicket executable was not built";
-        dir_ = fs::temp_directory_path() /
-               ("thicket_compare_test_" + std::to_string(getpid()) + "_" +
-                ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override {
-        if (!dir_.empty()) fs::remove_all(dir_);
-    }
-
-    // Runs `thicket ARGS` in the test's directory.
-    Result run(const std::string& args) const { return thicket::testing::run_thicket(args, dir_.string()); }
-
-    fs::path dir_;
-};
+class CompareCliTest : public thicket::testing::CliDirTest {};
 
 // Small enough for the default suite: 36 triangles, growth at 100..1600 (made by subdivision),
 // 32x24 rays, one timed pass.

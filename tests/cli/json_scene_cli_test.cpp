@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "support/cli_run.h"
+#include "support/cli_dir_test.h"
 #include "support/png_read.h"
 #include "thicket/accel/registry.h"
 #include "thicket/util/npy.h"
@@ -38,25 +38,15 @@ constexpr const char* kScene = R"({"shapes": [
   {"type": "mandelbulb", "center": [21, 0, 0]}
 ]})";
 
-class JsonSceneCli : public ::testing::Test {
+class JsonSceneCli : public thicket::testing::CliDirTest {
 protected:
     void SetUp() override {
-        if (std::string(THICKET_CLI).empty()) GTEST_SKIP() << "the thicket executable was not built";
-        dir_ = fs::temp_directory_path() / ("thicket_json_cli_" + std::to_string(getpid()) + "_" +
-                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
+        CliDirTest::SetUp();
+        if (IsSkipped()) return;
         // A quad at z = -5 behind the row of shapes, from x = -2 to 23.
         write("quad.obj", "v -2 -2 -5\nv 23 -2 -5\nv 23 2 -5\nv -2 2 -5\nf 1 2 3 4\n");
         write("scene.json", kScene);
     }
-    void TearDown() override {
-        if (!dir_.empty()) fs::remove_all(dir_);
-    }
-    void write(const std::string& name, const std::string& text) const { std::ofstream(dir_ / name) << text; }
-    std::string q(const std::string& name) const { return shell_quote((dir_ / name).string()); }
-
-    fs::path dir_;
 };
 
 TEST_F(JsonSceneCli, InfoCountsEveryKind) {

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "support/cli_run.h"
+#include "support/cli_dir_test.h"
 #include "thicket/util/npy.h"
 
 namespace fs = std::filesystem;
@@ -23,48 +23,10 @@ using thicket::testing::shell_quote;
 
 namespace {
 
-class Refusals : public ::testing::Test {
+class Refusals : public thicket::testing::CliDirTest {
 protected:
-    void SetUp() override {
-        if (std::string(THICKET_CLI).empty()) GTEST_SKIP() << "the thicket executable was not built";
-        dir_ = fs::temp_directory_path() / ("thicket_refusals_" + std::to_string(getpid()) + "_" +
-                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override {
-        if (!dir_.empty()) fs::remove_all(dir_);
-    }
-    std::string path(const std::string& name) const { return (dir_ / name).string(); }
-    std::string q(const std::string& name) const { return shell_quote(path(name)); }
-    CliResult run(const std::string& args) const { return run_thicket(args, dir_.string()); }
-    /// Runs under an address-space limit of `kib` KiB, so that an allocation the check misses
-    /// fails at once (as std::bad_alloc) instead of taking the machine's memory.
-    CliResult limited(const std::string& args, long kib = 1500000) const {
-        const std::string cmd = "cd " + shell_quote(dir_.string()) + " && (ulimit -v " + std::to_string(kib) + "; " +
-                                shell_quote(THICKET_CLI) + " " + args + ") 2>&1";
-        CliResult r;
-        FILE* p = popen(cmd.c_str(), "r");
-        char buf[4096];
-        size_t n;
-        while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
-        const int status = pclose(p);
-        r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        return r;
-    }
-    /// Exit code `code` (1: an error of ours, 2: a usage error from the option parser) with every
-    /// fragment in the output, and no bad_alloc.
-    static void expect_refused(const CliResult& r, const std::vector<std::string>& fragments, int code = 1) {
-        EXPECT_EQ(r.code, code) << r.output;
-        for (const std::string& f : fragments) EXPECT_NE(r.output.find(f), std::string::npos) << f << " not in: " << r.output;
-        EXPECT_EQ(r.output.find("bad_alloc"), std::string::npos) << r.output;
-    }
-    std::string read(const std::string& name) const {
-        std::ifstream in(path(name), std::ios::binary);
-        return {std::istreambuf_iterator<char>(in), {}};
-    }
-
-    fs::path dir_;
+    /// run() under an address-space limit (1.5 GB unless given).
+    CliResult limited(const std::string& args, long kib = 1500000) const { return run_limited(args, kib); }
 };
 
 #ifndef THICKET_SANITIZED  // ulimit -v: AddressSanitizer's shadow memory cannot run under it

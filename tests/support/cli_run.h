@@ -21,11 +21,14 @@ inline std::string shell_quote(const std::string& s) {
 }
 
 /// Runs `thicket ARGS` through the shell, in directory `dir` when one is given, with the
-/// environment assignments `env` (e.g. "THICKET_ISA=sse", as the shell reads them) when given.
-inline CliResult run_thicket(const std::string& args, const std::string& dir = "", const std::string& env = "") {
+/// environment assignments `env` (e.g. "THICKET_ISA=sse", as the shell reads them) when given,
+/// after the shell commands `before` (e.g. "ulimit -v 100000;") in a subshell of its own.
+inline CliResult run_thicket(const std::string& args, const std::string& dir = "", const std::string& env = "",
+                             const std::string& before = "") {
     CliResult r;
-    const std::string cmd = (dir.empty() ? "" : "cd " + shell_quote(dir) + " && ") + (env.empty() ? "" : env + " ") +
-                            shell_quote(THICKET_CLI) + " " + args + " 2>&1";
+    const std::string tool = (env.empty() ? "" : env + " ") + shell_quote(THICKET_CLI) + " " + args;
+    const std::string cmd = (dir.empty() ? "" : "cd " + shell_quote(dir) + " && ") +
+                            (before.empty() ? tool : "(" + before + " " + tool + ")") + " 2>&1";
     FILE* pipe = popen(cmd.c_str(), "r");
     if (!pipe) return r;
     char buf[4096];

@@ -103,10 +103,11 @@ inline void sample_triangle(float u0, float u1, float& b1, float& b2) {
 /// Veach's power heuristic (beta = 2) for a sample of density pdf_a against the other
 /// strategy's pdf_b: pdf_a^2 / (pdf_a^2 + pdf_b^2); 0 when both are 0; 1 when pdf_b is 0.
 inline float power_heuristic(float pdf_a, float pdf_b) {
-    const float a = pdf_a * pdf_a, b = pdf_b * pdf_b;
-    if (!(a + b > 0.0f)) return 0.0f;
-    if (std::isinf(a)) return 1.0f;
-    return a / (a + b);
+    // In double: squared in float, two pdfs above ~1.8e19 both became inf, each weight 1, summing to 2.
+    const double a = double(pdf_a) * pdf_a, b = double(pdf_b) * pdf_b;
+    if (!(a + b > 0.0)) return 0.0f;
+    if (std::isinf(a)) return std::isinf(b) ? 0.5f : 1.0f;
+    return float(a / (a + b));
 }
 
 /// Rec. 709 luminance of a linear RGB colour.
