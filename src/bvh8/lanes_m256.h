@@ -17,6 +17,8 @@ __attribute__((always_inline)) inline void node_store(float* p, __m256 v) { _mm2
 __attribute__((always_inline)) inline __m256 vadd(__m256 a, __m256 b) { return _mm256_add_ps(a, b); }
 __attribute__((always_inline)) inline __m256 vsub(__m256 a, __m256 b) { return _mm256_sub_ps(a, b); }
 __attribute__((always_inline)) inline __m256 vmul(__m256 a, __m256 b) { return _mm256_mul_ps(a, b); }
+/// a * b + c with one rounding (FMA): the FMA slab test, whose error bound covers one or two.
+__attribute__((always_inline)) inline __m256 node_muladd(__m256 a, __m256 b, __m256 c) { return _mm256_fmadd_ps(a, b, c); }
 /// Lane-wise a < b ? a : b and a > b ? a : b (the second operand for a NaN).
 __attribute__((always_inline)) inline __m256 vmin(__m256 a, __m256 b) { return _mm256_min_ps(a, b); }
 __attribute__((always_inline)) inline __m256 vmax(__m256 a, __m256 b) { return _mm256_max_ps(a, b); }

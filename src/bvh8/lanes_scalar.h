@@ -32,6 +32,9 @@ __attribute__((always_inline)) inline float vadd(float a, float b) { return a + 
 __attribute__((always_inline)) inline float vsub(float a, float b) { return a - b; }
 __attribute__((always_inline)) inline float vmul(float a, float b) { return a * b; }
 __attribute__((always_inline)) inline float vdiv(float a, float b) { return a / b; }
+/// a * b + c, rounded twice (the file is compiled with -ffp-contract=off): the FMA slab test's
+/// error bound covers it.
+__attribute__((always_inline)) inline float node_muladd(float a, float b, float c) { return a * b + c; }
 /// a < b ? a : b and a > b ? a : b: the second operand when either is NaN, as minps and maxps.
 __attribute__((always_inline)) inline float vmin(float a, float b) { return a < b ? a : b; }
 __attribute__((always_inline)) inline float vmax(float a, float b) { return a > b ? a : b; }

@@ -18,6 +18,10 @@ __attribute__((always_inline)) inline __m128 node_load(const float* p) { return 
 __attribute__((always_inline)) inline __m128 node_splat(float x) { return _mm_set1_ps(x); }
 __attribute__((always_inline)) inline __m128 node_zero() { return _mm_setzero_ps(); }
 __attribute__((always_inline)) inline void node_store(float* p, __m128 v) { _mm_storeu_ps(p, v); }
+/// a * b + c, rounded twice (SSE2 has no FMA): the FMA slab test's error bound covers it.
+__attribute__((always_inline)) inline __m128 node_muladd(__m128 a, __m128 b, __m128 c) {
+    return _mm_add_ps(_mm_mul_ps(a, b), c);
+}
 
 /// Bits (from bit 0) of the node lanes where a <= b; lanes outside `valid` may be cleared already.
 __attribute__((always_inline)) inline uint32_t le_bits(__m128 a, __m128 b, uint32_t) {

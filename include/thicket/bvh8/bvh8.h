@@ -228,6 +228,8 @@ private:
     void set_contexts() {
         ctx_ = {tree_.nodes.data(), blocks_.data(), ids_.data(), &prims_, &closest_leaf, &any_leaf};
         sliver_ctx_ = {slivers_.tree.nodes.data(), slivers_.blocks.data(), nullptr, nullptr, nullptr, nullptr};
+        bvh8::set_plane_bounds(ctx_, tree_.nodes.data(), tree_.nodes.size());
+        bvh8::set_plane_bounds(sliver_ctx_, slivers_.tree.nodes.data(), slivers_.tree.nodes.size());
     }
 
     /// Calls f(hits) with every hit of the ray (AllHitsFn's), in a buffer on the stack when they

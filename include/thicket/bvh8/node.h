@@ -3,6 +3,7 @@
 /// for the baseline ISA) and its traversal kernels (one translation unit per ISA, src/bvh8/).
 /// Everything here is data or a declaration: no function body, so that no inline code is shared
 /// between translation units compiled for different ISAs (see docs/bvh8.md, "The dispatch trap").
+#include <cstddef>
 #include <cstdint>
 
 #include "thicket/core/ray.h"
@@ -56,7 +57,18 @@ struct TraceContext {
     const void* prims = nullptr;
     ClosestLeafFn closest_leaf = nullptr;
     AnyLeafFn any_leaf = nullptr;
+    /// Every valid lane's box of every node lies within [plane_lo, plane_hi] on each axis: what
+    /// bounds the error of the FMA slab test (docs/bvh8.md, "The slab test at one FMA per
+    /// plane"). Set by set_plane_bounds; an empty or non-finite range sends every ray to the
+    /// exact slab test.
+    float plane_lo[3] = {0.0f, 0.0f, 0.0f};
+    float plane_hi[3] = {-1.0f, -1.0f, -1.0f};
 };
+
+/// Sets ctx.plane_lo/hi to the range of every valid lane's box of nodes[0..count) (NaN planes
+/// ignored): computed over all nodes, not the root alone, so that a loaded file whose children
+/// stick out of their parents cannot make the FMA test cull.
+void set_plane_bounds(TraceContext& ctx, const Node* nodes, size_t count);
 
 /// Closest hit / any hit; counters is null for the non-counting entry ([1] of each table row).
 using ClosestFn = Hit (*)(const TraceContext& ctx, const Ray& ray, RayCounters* counters);
@@ -66,6 +78,12 @@ using AnyFn = bool (*)(const TraceContext& ctx, const Ray& ray, RayCounters* cou
 /// distances to dist[0..8); the OR of all masks is in *any_mask (the micro-benchmarks' node kernel).
 using NodeTestFn = uint32_t (*)(const Node* nodes, uint32_t count, const Ray& ray, float tmax, float* dist,
                                 uint32_t* any_mask);
+/// The traversal's slab test of `count` nodes with one ray, as NodeTestFn: the conservative FMA
+/// test against ctx's plane bounds where the ray allows it (*fma set true), else the exact one.
+/// It enters every lane the exact test enters, at an entry distance no greater
+/// (tests/unit/bvh8_fma_slab_test.cpp).
+using FastNodeTestFn = uint32_t (*)(const TraceContext& ctx, const Node* nodes, uint32_t count, const Ray& ray,
+                                    float tmax, float* dist, uint32_t* any_mask, bool* fma);
 /// Moller-Trumbore on one block: mask of lanes hit within [ray.tmin, tmax], their t.
 using BlockTestFn = uint32_t (*)(const Tri4& block, const Ray& ray, float tmax, float* t);
 
@@ -97,6 +115,7 @@ struct KernelTable {
     ClosestFn closest[kLeafKinds][2];  ///< [kind][0: no counters, 1: counting]
     AnyFn any[kLeafKinds][2];
     NodeTestFn node_test;
+    FastNodeTestFn node_test_fast;
     BlockTestFn block_test;
     PacketClosestFn packet_closest[kLeafKinds];
     PointQueryFn closest_point;
