@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <mutex>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,17 @@ void on_error(void* user, RTCError code, const char* message) {
             "Embree error " + std::to_string(int(code)) + ": " + (message ? message : "(no message)");
 }
 
+/// Embree's name for the level THICKET_ISA asks for ("" when unset or auto): Embree has no scalar
+/// kernels, so scalar and sse both map to its SSE2 level.
+std::string embree_isa_for_env() {
+    const char* env = std::getenv("THICKET_ISA");
+    if (!env) return "";
+    const std::string level = env;
+    if (level == "scalar" || level == "sse") return "sse2";
+    if (level == "avx2" || level == "avx512") return level;
+    return "";  // auto, or a value bvh8 refuses with its own message
+}
+
 class EmbreeTracer final : public Tracer {
 public:
     explicit EmbreeTracer(EmbreeQuality quality) : quality_(quality) {}
@@ -54,8 +66,15 @@ public:
                         " shapes, and this backend holds triangles only");
         release();
         log_ = std::make_unique<DeviceLog>();
-        // threads=N bounds Embree's task system; 0 leaves it at one thread per core.
-        const std::string config = threads ? "threads=" + std::to_string(threads) : "";
+        // threads=N bounds Embree's task system; 0 leaves it at one thread per core. THICKET_ISA
+        // caps Embree's kernels as it caps bvh8's, so that a capped run compares like with like.
+        std::string config = threads ? "threads=" + std::to_string(threads) : "";
+        const std::string isa = embree_isa_for_env();
+        if (!isa.empty()) {
+            if (!config.empty()) config += ',';
+            config += "isa=";
+            config += isa;
+        }
         device_ = rtcNewDevice(config.c_str());
         if (!device_)
             throw Error("Embree: cannot create a device (error " + std::to_string(int(rtcGetDeviceError(nullptr))) +
@@ -110,6 +129,11 @@ public:
         TracerFigures f;
         f.spec = std::string("embree ") + embree_version_of(device_) + " rtcIntersect1/rtcOccluded1, build quality " +
                  (quality_ == EmbreeQuality::High ? "high" : "medium");
+        if (const std::string isa = embree_isa_for_env(); !isa.empty()) {
+            f.spec += ", isa=";
+            f.spec += isa;
+            f.spec += " (THICKET_ISA)";
+        }
         f.primitives = primitives_;
         f.bytes = bytes_;
         f.structure_bytes = bytes_;  // Embree's leaves hold the triangles: not separable
