@@ -1,0 +1,119 @@
+"""The type stub (thicket/__init__.pyi) and the module agree name for name; every public function,
+class, method and property has a docstring; mypy passes on the code that uses the module."""
+
+import ast
+import inspect
+import os
+import pathlib
+import subprocess
+import sys
+
+import pytest
+
+import thicket
+
+PACKAGE = pathlib.Path(thicket.__file__).parent
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+
+def stub_tree():
+    return ast.parse((PACKAGE / "__init__.pyi").read_text())
+
+
+def public(names):
+    return {n for n in names if not n.startswith("_")}
+
+
+def stub_names(body):
+    """Public names a stub body defines: functions, classes, annotated or assigned names."""
+    out = set()
+    for node in body:
+        if isinstance(node, (ast.FunctionDef, ast.ClassDef)):
+            out.add(node.name)
+        elif isinstance(node, ast.AnnAssign) and isinstance(node.target, ast.Name):
+            out.add(node.target.id)
+        elif isinstance(node, ast.Assign):
+            out |= {t.id for t in node.targets if isinstance(t, ast.Name)}
+    return public(out)
+
+
+def module_names():
+    """The package's public names, less its submodules (thicket.dask is imported on demand)."""
+    return {n for n in public(dir(thicket)) if not inspect.ismodule(getattr(thicket, n))}
+
+
+def test_the_stub_and_the_module_have_the_same_names():
+    in_stub = stub_names(stub_tree().body) - {"__all__"}
+    missing, extra = module_names() - in_stub, in_stub - module_names()
+    assert not missing, f"in the module but not in thicket/__init__.pyi: {sorted(missing)}"
+    assert not extra, f"in thicket/__init__.pyi but not in the module: {sorted(extra)}"
+    assert set(thicket.__all__) == module_names()
+
+
+@pytest.mark.parametrize("cls", ["Scene", "Accel"])
+def test_the_stub_and_the_classes_have_the_same_members(cls):
+    node = next(n for n in stub_tree().body if isinstance(n, ast.ClassDef) and n.name == cls)
+    in_stub = stub_names(node.body) | ({"__init__"} & {n.name for n in node.body if isinstance(n, ast.FunctionDef)})
+    in_module = public(vars(getattr(thicket, cls))) | ({"__init__"} if cls == "Scene" else set())
+    assert in_module - in_stub == set(), f"{cls} members missing from the stub"
+    assert in_stub - in_module == set(), f"{cls} members in the stub but not in the module"
+
+
+def documented_objects():
+    for name in sorted(module_names()):
+        obj = getattr(thicket, name)
+        if callable(obj):
+            yield name, obj
+        if inspect.isclass(obj):
+            for member, value in vars(obj).items():
+                if not member.startswith("_") or member == "__init__":
+                    yield f"{name}.{member}", value
+
+
+def test_everything_public_has_a_docstring_with_its_shapes_or_types():
+    undocumented = [name for name, obj in documented_objects() if len((inspect.getdoc(obj) or "").strip()) < 20]
+    assert not undocumented, f"no usable docstring: {undocumented}"
+    # Array arguments and answers name their shape and dtype.
+    for name in ("Accel.cast_rays", "Accel.compute_distance", "Scene.__init__", "create_rays_pinhole"):
+        obj = dict(documented_objects())[name]
+        doc = inspect.getdoc(obj)
+        assert "(" in doc and ("float32" in doc or "float" in doc), f"{name}: {doc}"
+
+
+def test_help_is_a_usable_page():
+    page = subprocess.run([sys.executable, "-c", "import thicket; help(thicket)"], capture_output=True, text=True,
+                          env=dict(os.environ, PAGER="cat", TERM="dumb"), check=True).stdout
+    for name in sorted(module_names() - {"INVALID_ID"}):
+        assert name in page, name
+
+
+MYPY_TARGETS = [ROOT / "python" / "tests" / "mypy_usage.py", ROOT / "examples" / "pinhole_depth.py"]
+
+
+def test_mypy_passes_on_the_code_that_uses_the_module():
+    # python3-mypy is installed by scripts/setup: a missing mypy is a failure, not a skip.
+    env = dict(os.environ, MYPYPATH=str(PACKAGE.parent))
+    p = subprocess.run([sys.executable, "-m", "mypy", "--strict", "--no-incremental", "--cache-dir", os.devnull,
+                        *map(str, MYPY_TARGETS)], capture_output=True, text=True, env=env)
+    assert p.returncode == 0, f"mypy:\n{p.stdout}{p.stderr}"
+
+
+def test_mypy_catches_a_misuse():
+    # The check above could pass by seeing nothing (Any everywhere): a wrong call must fail it.
+    bad = "import thicket\nrays = thicket.create_rays_pinhole(60.0, [0, 0, 0], [0, 0, 1], [0, 1, 0], 4)\n" \
+          "hits = thicket.build(thicket.load_scene('cornell')).cast_rays(rays)\nx: str = hits['t_hit']\n"
+    env = dict(os.environ, MYPYPATH=str(PACKAGE.parent))
+    p = subprocess.run([sys.executable, "-m", "mypy", "--no-incremental", "--cache-dir", os.devnull, "-c", bad],
+                       capture_output=True, text=True, env=env)
+    assert p.returncode == 1, p.stdout + p.stderr
+    assert "No overload variant" in p.stdout and "incompatible types in assignment" in p.stdout.lower(), p.stdout
+
+
+def test_the_typed_usage_runs(tmp_path):
+    # What mypy checked is also what the module answers (a stub can lie; running it cannot).
+    sys.path.insert(0, str(pathlib.Path(__file__).parent))
+    try:
+        import mypy_usage
+    finally:
+        sys.path.pop(0)
+    assert mypy_usage.use_everything(str(tmp_path)) == pytest.approx(2.0 + 1.0)
