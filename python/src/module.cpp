@@ -72,6 +72,10 @@ PYBIND11_MODULE(_thicket, m) {
     using namespace thicket;
     using namespace thicket::python;
     m.doc() = "Thicket's scenes, acceleration structures and batch queries (see the thicket package)";
+    // Every docstring starts with its own signature: pybind11's would show the arguments taken as
+    // py::handle (to check them as the CLI does) as "handle". The types are in thicket/__init__.pyi.
+    py::options options;
+    options.disable_function_signatures();
 
     // thicket::Error -> thicket.Error (a RuntimeError); its FileError (a file missing, unreadable or
     // unwritable) -> OSError. Translators run last-registered first, so FileError is seen first.
@@ -232,5 +236,5 @@ PYBIND11_MODULE(_thicket, m) {
     m.def("_batch_seconds", [](AccelHandle& h, const py::handle& rows, const std::string& query, const py::handle& nthreads) {
         return batch_seconds(h, rows, query, thread_count(nthreads));
     }, "accel"_a, "rows"_a, "query"_a, "nthreads"_a = 0,
-          "For python/bench/module_bench.py: seconds of the C++ batch call alone (closest, any, count, closest_point)");
+          "_batch_seconds(accel, rows, query, nthreads=0) -> float. For python/bench/module_bench.py: seconds of the C++ batch call alone (closest, any, count, closest_point)");
 }

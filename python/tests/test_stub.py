@@ -80,6 +80,15 @@ def test_everything_public_has_a_docstring_with_its_shapes_or_types():
         assert "(" in doc and ("float32" in doc or "float" in doc), f"{name}: {doc}"
 
 
+def test_compiled_functions_state_their_signature():
+    # pybind11's own signatures are off (they would call the checked arguments "handle"): each
+    # compiled function's docstring must begin with its own, as Python's help shows for .py ones.
+    for name, obj in documented_objects():
+        if inspect.isbuiltin(obj) or type(obj).__name__ == "instancemethod":
+            short = name.split(".")[-1] if not name.endswith("__init__") else name.split(".")[0]
+            assert inspect.getdoc(obj).startswith(short + "("), f"{name}: {inspect.getdoc(obj)[:60]}"
+
+
 def test_help_is_a_usable_page():
     page = subprocess.run([sys.executable, "-c", "import thicket; help(thicket)"], capture_output=True, text=True,
                           env=dict(os.environ, PAGER="cat", TERM="dumb"), check=True).stdout
