@@ -136,6 +136,15 @@ def test_bad_arguments_are_named(args, error, message):
         thicket.create_rays_pinhole(*args)
 
 
+def test_a_wrong_call_names_the_form_it_was_taken_for():
+    with pytest.raises(TypeError, match=r"create_rays_pinhole\(fov_deg, center, eye, up, width_px, height_px\): "
+                                        r"missing a required argument: 'height_px'"):
+        thicket.create_rays_pinhole(60.0, [0, 0, 0], [0, 0, 1], [0, 1, 0], 4)
+    with pytest.raises(TypeError, match=r"create_rays_pinhole\(intrinsic_matrix, extrinsic_matrix, width_px, "
+                                        r"height_px\): got an unexpected keyword argument 'fov_deg'"):
+        thicket.create_rays_pinhole(np.eye(3), np.eye(4), 4, 4, fov_deg=3)
+
+
 def open3d_scene_class():
     try:
         import open3d  # python3-open3d, scripts/setup

@@ -1,6 +1,7 @@
 """Camera rays as Open3D's RaycastingScene.create_rays_pinhole makes them: same arguments, same
 (height_px, width_px, 6) float32 layout, same numbers (origin, then the unnormalized direction)."""
 
+import inspect
 import math
 import operator
 
@@ -116,5 +117,12 @@ def create_rays_pinhole(*args, **kwargs):
     Raises TypeError or ValueError naming the argument at fault.
     """
     if "intrinsic_matrix" in kwargs or (args and np.ndim(args[0].numpy() if hasattr(args[0], "numpy") else args[0]) == 2):
-        return _from_matrices(*args, **kwargs)
-    return _from_view(*args, **kwargs)
+        form = _from_matrices
+    else:
+        form = _from_view
+    signature = inspect.signature(form)
+    try:
+        bound = signature.bind(*args, **kwargs)
+    except TypeError as e:  # named after the public function and the form it was taken for
+        raise TypeError(f"create_rays_pinhole{signature}: {e}") from None
+    return form(*bound.args)
