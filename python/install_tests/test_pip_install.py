@@ -81,3 +81,12 @@ def test_pip_install_editable(venv):
             f.unlink()
         for f, aside in kept.items():
             aside.rename(f)
+
+
+def test_the_package_version_is_the_projects():
+    import re
+    import tomllib
+
+    project = tomllib.loads((SOURCE / "pyproject.toml").read_text())["project"]
+    cmake = re.search(r"project\(thicket VERSION ([0-9.]+)", (SOURCE / "CMakeLists.txt").read_text())
+    assert cmake and project["version"] == cmake.group(1), (project["version"], cmake and cmake.group(1))
