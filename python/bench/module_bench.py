@@ -26,7 +26,7 @@ import time
 import numpy as np
 
 import thicket
-from thicket import _thicket
+from thicket import _thicket  # type: ignore[attr-defined]  # private: not in the stub
 
 
 def timed(f):

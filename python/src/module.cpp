@@ -72,10 +72,15 @@ PYBIND11_MODULE(_thicket, m) {
     using namespace thicket;
     using namespace thicket::python;
     m.doc() = "Thicket's scenes, acceleration structures and batch queries (see the thicket package)";
+    // Every docstring starts with its own signature: pybind11's would show the arguments taken as
+    // py::handle (to check them as the CLI does) as "handle". The types are in thicket/__init__.pyi.
+    py::options options;
+    options.disable_function_signatures();
 
     // thicket::Error -> thicket.Error (a RuntimeError); its FileError (a file missing, unreadable or
     // unwritable) -> OSError. Translators run last-registered first, so FileError is seen first.
     static py::exception<Error> error(m, "Error", PyExc_RuntimeError);
+    error.attr("__doc__") = "A RuntimeError: a bad spec, a malformed scene or saved file, a structure saved for another scene";
     py::register_exception_translator([](std::exception_ptr p) {
         try {
             if (p) std::rethrow_exception(p);
@@ -89,14 +94,18 @@ PYBIND11_MODULE(_thicket, m) {
     py::class_<Scene, std::shared_ptr<Scene>>(m, "Scene",
         "Triangles and shapes that structures are built over: Scene(vertices (V,3), triangles (T,3)) or load_scene(path)")
         .def(py::init(&scene_from_arrays), "vertices"_a, "triangles"_a,
-             "vertices (V, 3) of any float dtype, every one finite; triangles (T, 3) of any integer dtype, every "
+             "Scene(vertices, triangles). vertices (V, 3) of any float dtype, every one finite; triangles (T, 3) of any integer dtype, every "
              "index in 0..V-1 (ValueError quoting it otherwise). V up to 2^32, T below 2^32 - 1; a scene bigger than "
              "the memory available is a MemoryError naming both shapes, before anything is allocated")
-        .def_readonly("name", &Scene::name)
-        .def_property_readonly("primitive_count", &Scene::primitive_count)
-        .def_property_readonly("triangle_count", [](const Scene& s) { return s.mesh.triangle_count(); })
-        .def_property_readonly("shape_count", [](const Scene& s) { return s.shapes.size(); })
-        .def_property_readonly("bounds", [](const Scene& s) { return bounds_tuple(s.bounds()); })
+        .def_readonly("name", &Scene::name, "str: the file's name, the built-in name, or '<arrays>' for Scene(V, T)")
+        .def_property_readonly("primitive_count", &Scene::primitive_count,
+                               "int: triangles plus shapes (what primitive_ids number)")
+        .def_property_readonly("triangle_count", [](const Scene& s) { return s.mesh.triangle_count(); },
+                               "int: the triangles of the mesh (T of Scene(V, T))")
+        .def_property_readonly("shape_count", [](const Scene& s) { return s.shapes.size(); },
+                               "int: the analytic shapes (spheres, quadrics, ... of a JSON scene; 0 otherwise)")
+        .def_property_readonly("bounds", [](const Scene& s) { return bounds_tuple(s.bounds()); },
+                               "((xmin, ymin, zmin), (xmax, ymax, zmax)): the box around everything, floats")
         .def_property_readonly("vertices", [](const Scene& s) {
             auto a = new_array<float>({py::ssize_t(s.mesh.positions.size())}, {3});
             std::memcpy(a.mutable_data(), s.mesh.positions.data(), s.mesh.positions.size() * sizeof(Vec3));
@@ -113,15 +122,19 @@ PYBIND11_MODULE(_thicket, m) {
         });
 
     m.def("load_scene", [](const py::object& path) { return load_scene_file(path_argument(path, "path")); }, "path"_a,
-          "Loads a PLY, OBJ, glTF or JSON scene, or a built-in one ('cornell', 'teapot-patches'). path: str, bytes "
+          "load_scene(path) -> Scene. Loads a PLY, OBJ, glTF or JSON scene, or a built-in one ('cornell', 'teapot-patches'). path: str, bytes "
           "or os.PathLike; a NUL byte in it is a ValueError");
 
     py::class_<AccelHandle>(m, "Accel", "An acceleration structure over a scene: thicket.build(scene, spec)")
-        .def_property_readonly("spec", [](const AccelHandle& h) { return h.accel->spec(); })
-        .def_property_readonly("scene", [](const AccelHandle& h) { return std::const_pointer_cast<Scene>(h.scene); })
-        .def_property_readonly("bounds", [](const AccelHandle& h) { return bounds_tuple(h.accel->bounds()); })
+        .def_property_readonly("spec", [](const AccelHandle& h) { return h.accel->spec(); },
+                               "str: the full spec NAME:key=value,... it was built with (defaults filled in)")
+        .def_property_readonly("scene", [](const AccelHandle& h) { return std::const_pointer_cast<Scene>(h.scene); },
+                               "Scene: the scene it was built over (kept alive with it)")
+        .def_property_readonly("bounds", [](const AccelHandle& h) { return bounds_tuple(h.accel->bounds()); },
+                               "((xmin, ymin, zmin), (xmax, ymax, zmax)): the box around its primitives, floats")
         .def("stats", [](const AccelHandle& h) { return stats_dict(h.accel->stats()); },
-             "nodes, leaves, depth, bytes, SAH cost, build time as a dict")
+             "stats() -> dict: spec (str), primitives, nodes, leaves, max_depth, bytes, primitive_bytes (ints), "
+             "sah_cost, build_ms (floats), extra (dict of the structure's own figures)")
         .def("save", [](const AccelHandle& h, const py::object& path, bool overwrite) {
             const std::string p = path_argument(path, "path");
             std::vector<InputFile> inputs;
@@ -131,7 +144,7 @@ PYBIND11_MODULE(_thicket, m) {
             py::gil_scoped_release nogil;
             save_accel(*h.accel, *h.scene, p);
         }, "path"_a, "overwrite"_a = false,
-             "Saves the structure; thicket.load(path, scene) restores it for the same scene. path: str, bytes or "
+             "save(path, overwrite=False) -> None. Saves the structure; thicket.load(path, scene) restores it for the same scene. path: str, bytes or "
              "os.PathLike. As the CLI's outputs: an existing file is replaced only with overwrite=True "
              "(FileExistsError otherwise), and the scene file the structure was built from, or the file it was "
              "loaded from, is never replaced (ValueError), under any name")
@@ -139,43 +152,56 @@ PYBIND11_MODULE(_thicket, m) {
                              const py::handle& coherent) {
             return cast_rays(h, rays, thread_count(nthreads), bool_argument(coherent, "coherent"));
         }, "rays"_a, "nthreads"_a = 0, "coherent"_a = false,
-             "Closest hit of rays (..., 6) or (..., 8) float32: dict of t_hit, geometry_ids, primitive_ids, "
-             "primitive_uvs, primitive_normals (Open3D's RaycastingScene.cast_rays). nthreads: 0 (one per core) "
+             "cast_rays(rays, nthreads=0, coherent=False) -> dict. rays: float32 (..., 6) or (..., 8) (ox oy oz dx dy "
+             "dz [tmin tmax]). Closest hit of each (Open3D's RaycastingScene.cast_rays): t_hit float32 (...) (inf on "
+             "a miss), geometry_ids uint32 (...), primitive_ids uint32 (...) (INVALID_ID on a miss), primitive_uvs "
+             "float32 (..., 2), primitive_normals float32 (..., 3). coherent=True: camera rays, traced in tiles. nthreads: 0 (one per core) "
              "or a thread count up to 2^32 - 1, as the CLI's -j; answers that do not fit in memory are a MemoryError")
         .def("test_occlusions", [](const AccelHandle& h, const py::handle& rays, const py::handle& tnear,
                                    const py::handle& tfar, const py::handle& nthreads, const py::handle& coherent) {
             return test_occlusions(h, rays, float_argument(tnear, "tnear"), float_argument(tfar, "tfar"),
                                    thread_count(nthreads), bool_argument(coherent, "coherent"));
         }, "rays"_a, "tnear"_a = py::none(), "tfar"_a = py::none(), "nthreads"_a = 0, "coherent"_a = false,
-             "Whether anything is hit: bool array of the rays' leading shape")
+             "test_occlusions(rays, tnear=None, tfar=None, nthreads=0, coherent=False) -> bool ndarray. rays: "
+             "float32 (..., 6) or (..., 8) (ox oy oz dx dy dz [tmin tmax]); answers whether anything is hit "
+             "within [tnear, tfar] (floats; default the rays' own interval, else [0, inf)), bool of shape (...)")
         .def("count_intersections", [](const AccelHandle& h, const py::handle& rays, const py::handle& nthreads) {
             return count_intersections(h, rays, thread_count(nthreads));
         }, "rays"_a, "nthreads"_a = 0,
-             "Number of surface crossings of each ray, int32 of the rays' leading shape (a shared edge or vertex "
+             "count_intersections(rays, nthreads=0) -> int32 ndarray. rays: float32 (..., 6) or (..., 8). "
+             "Number of surface crossings of each ray, int32 (...) (a shared edge or vertex "
              "crossed once counts once)")
         .def("list_intersections", [](const AccelHandle& h, const py::handle& rays, const py::handle& nthreads) {
             return list_intersections(h, rays, thread_count(nthreads));
         }, "rays"_a, "nthreads"_a = 0,
-             "Every crossing, sorted by t per ray: dict of ray_splits, ray_ids, t_hit, geometry_ids, primitive_ids, "
-             "primitive_uvs (Open3D 0.17's layout)")
+             "list_intersections(rays, nthreads=0) -> dict. rays: float32 (..., 6) or (..., 8), N of them taken in "
+             "row order. Every crossing, sorted by t per ray (Open3D 0.17's layout): ray_splits uint32 (N + 1,) "
+             "(ray i's crossings are [ray_splits[i], ray_splits[i + 1])), ray_ids uint32 (M,), t_hit float32 (M,), "
+             "geometry_ids uint32 (M,), primitive_ids uint32 (M,), primitive_uvs float32 (M, 2)")
         .def("compute_closest_points", [](AccelHandle& h, const py::handle& points, const py::handle& nthreads) {
             return compute_closest_points(h, points, thread_count(nthreads));
         }, "query_points"_a, "nthreads"_a = 0,
-             "Closest surface point of points (..., 3) float32: dict of points, geometry_ids, primitive_ids, "
-             "primitive_uvs, primitive_normals (triangle scenes)")
+             "compute_closest_points(query_points, nthreads=0) -> dict. query_points: float32 (..., 3). The closest "
+             "surface point of each: points float32 (..., 3), geometry_ids uint32 (...), primitive_ids uint32 (...), "
+             "primitive_uvs float32 (..., 2), primitive_normals float32 (..., 3) (triangle scenes)")
         .def("compute_distance", [](AccelHandle& h, const py::handle& points, const py::handle& nthreads) {
             return compute_distance(h, points, thread_count(nthreads));
-        }, "query_points"_a, "nthreads"_a = 0, "Distance to the surface, float32 of the points' leading shape")
+        }, "query_points"_a, "nthreads"_a = 0,
+             "compute_distance(query_points, nthreads=0) -> float32 ndarray. query_points: float32 (..., 3). "
+             "Distance to the surface, float32 (...)")
         .def("compute_signed_distance", [](AccelHandle& h, const py::handle& points, const py::handle& nthreads,
                                            const py::handle& nsamples) {
             return compute_signed_distance(h, points, thread_count(nthreads), sample_count(nsamples));
         }, "query_points"_a, "nthreads"_a = 0, "nsamples"_a = 1,
-             "Distance to the surface, negative inside (by compute_occupancy)")
+             "compute_signed_distance(query_points, nthreads=0, nsamples=1) -> float32 ndarray. query_points: "
+             "float32 (..., 3). Distance to the surface, negative inside (by compute_occupancy), float32 (...)")
         .def("compute_occupancy", [](const AccelHandle& h, const py::handle& points, const py::handle& nthreads,
                                      const py::handle& nsamples) {
             return compute_occupancy(h, points, thread_count(nthreads), sample_count(nsamples));
         }, "query_points"_a, "nthreads"_a = 0, "nsamples"_a = 1,
-             "1 inside, 0 outside (float32), by the parity of crossings along nsamples (odd, up to 5) directions")
+             "compute_occupancy(query_points, nthreads=0, nsamples=1) -> float32 ndarray. query_points: float32 "
+             "(..., 3). 1 inside, 0 outside, float32 (...), by the parity of crossings along nsamples (odd, up to 5) "
+             "directions, the majority deciding")
         .def("__repr__", [](const AccelHandle& h) { return "<thicket.Accel '" + h.accel->spec() + "'>"; });
 
     m.def("build", [](std::shared_ptr<Scene> scene, const std::string& spec) {
@@ -184,7 +210,9 @@ PYBIND11_MODULE(_thicket, m) {
         py::gil_scoped_release nogil;
         std::shared_ptr<const Accel> accel = build_accel(spec, *scene);
         return AccelHandle(scene, accel);
-    }, "scene"_a, "spec"_a = "bvh8", "Builds a structure from a spec string NAME[:key=value,...] (see accels())");
+    }, "scene"_a, "spec"_a = "bvh8",
+          "build(scene, spec='bvh8') -> Accel. Builds a structure over scene (a Scene) from a spec string "
+          "NAME[:key=value,...] (see accels()); thicket.Error for a bad spec");
 
     m.def("load", [](const py::object& path, std::shared_ptr<Scene> scene) {
         if (!scene) throw py::value_error("load: scene is None");
@@ -198,11 +226,15 @@ PYBIND11_MODULE(_thicket, m) {
         AccelHandle handle(scene, accel);
         handle.saved_from = std::move(file);
         return handle;
-    }, "path"_a, "scene"_a, "Loads a structure saved by Accel.save for the same scene (path: str, bytes or os.PathLike)");
+    }, "path"_a, "scene"_a,
+          "load(path, scene) -> Accel. Loads a structure saved by Accel.save for the same scene (path: str, bytes "
+          "or os.PathLike); thicket.Error when the file was saved for another scene");
 
-    m.def("accels", &accels_list, "Every registered structure: name, summary, options, variants");
+    m.def("accels", &accels_list,
+          "accels() -> list of dict. Every registered structure: name, summary, partitioning (str), options (list of "
+          "dict: key, help, default, and min/max or choices), variants (list of str), can_load (bool)");
     m.def("_batch_seconds", [](AccelHandle& h, const py::handle& rows, const std::string& query, const py::handle& nthreads) {
         return batch_seconds(h, rows, query, thread_count(nthreads));
     }, "accel"_a, "rows"_a, "query"_a, "nthreads"_a = 0,
-          "For python/bench/module_bench.py: seconds of the C++ batch call alone (closest, any, count, closest_point)");
+          "_batch_seconds(accel, rows, query, nthreads=0) -> float. For python/bench/module_bench.py: seconds of the C++ batch call alone (closest, any, count, closest_point)");
 }

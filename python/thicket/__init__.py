@@ -4,6 +4,7 @@
     scene = thicket.load_scene("bunny.ply")          # or thicket.Scene(vertices, triangles)
     accel = thicket.build(scene, "bvh8")              # any spec string: see thicket.accels()
     hits = accel.cast_rays(rays)                      # rays (..., 6) or (..., 8) float32
+    rays = thicket.create_rays_pinhole(60.0, center, eye, up, 640, 480)  # (480, 640, 6), as Open3D's
 
 Queries are named and shaped as Open3D's RaycastingScene answers them (t_hit, primitive_ids,
 primitive_uvs, primitive_normals, ...); rays of 8 columns add a per-ray [tmin, tmax]. Tracing
@@ -24,8 +25,9 @@ malformed file, a saved structure of another scene).
 """
 
 from ._thicket import Accel, Error, Scene, accels, build, load, load_scene
+from ._cameras import create_rays_pinhole
 
 INVALID_ID = 4294967295
 """primitive_ids and geometry_ids of a miss (Open3D's RaycastingScene.INVALID_ID)."""
 
-__all__ = ["Accel", "Error", "Scene", "accels", "build", "load", "load_scene", "INVALID_ID"]
+__all__ = ["Accel", "Error", "Scene", "accels", "build", "load", "load_scene", "create_rays_pinhole", "INVALID_ID"]

@@ -25,7 +25,7 @@ import thicket
 
 __all__ = ["cast_rays", "test_occlusions", "count_intersections", "load_count"]
 
-_cache = {}
+_cache: dict = {}  # (scene_path, spec, saved) -> (the files' states, Accel)
 _lock = threading.Lock()
 _loads = 0
 

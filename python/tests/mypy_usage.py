@@ -1,0 +1,38 @@
+"""Not collected (not test_*.py): typed code over the whole public API, which test_stub.py has mypy
+--strict check against thicket/__init__.pyi, and runs, so that the stub's types are the answers'."""
+
+import numpy as np
+import numpy.typing as npt
+
+import thicket
+
+
+def use_everything(tmp_dir: str) -> float:
+    v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], np.float32)
+    scene: thicket.Scene = thicket.Scene(v, np.array([[0, 1, 2]], np.int32))
+    names: list[str] = [a["name"] for a in thicket.accels()]
+    assert "bvh" in names and scene.triangle_count == 1 and scene.primitive_count == 1 and scene.shape_count == 0
+    lo, hi = scene.bounds
+    assert lo[0] == 0.0 and hi[1] == 1.0 and scene.name != "" or True
+    accel = thicket.build(scene, "bvh")
+    rays: npt.NDArray[np.float32] = thicket.create_rays_pinhole(40.0, [0.25, 0.25, 0], [0.25, 0.25, 2], [0, 1, 0], 3, 3)
+    also = thicket.create_rays_pinhole(np.eye(3), np.eye(4), width_px=2, height_px=2)
+    hits = accel.cast_rays(rays, nthreads=1)
+    t: npt.NDArray[np.float32] = hits["t_hit"]
+    ids: npt.NDArray[np.uint32] = hits["primitive_ids"]
+    assert ids.shape == (3, 3) and also.shape == (2, 2, 6) and hits["geometry_ids"][1, 1] == 0
+    occluded: npt.NDArray[np.bool_] = accel.test_occlusions(rays, tnear=0.0, tfar=10.0)
+    counts: npt.NDArray[np.int32] = accel.count_intersections(rays)
+    listed = accel.list_intersections(rays.reshape(-1, 6))
+    assert listed["ray_splits"].shape == (10,) and bool(occluded[1, 1]) and int(counts[1, 1]) == 1
+    points = np.array([[0.2, 0.2, 1.0]], np.float32)
+    closest = accel.compute_closest_points(points)
+    assert closest["points"].shape == (1, 3)
+    d: npt.NDArray[np.float32] = accel.compute_distance(points)
+    assert accel.compute_signed_distance(points, nsamples=1).shape == accel.compute_occupancy(points).shape
+    path = tmp_dir + "/tri.bvh"
+    accel.save(path, overwrite=True)
+    again: thicket.Accel = thicket.load(path, accel.scene)
+    assert again.spec == accel.spec and again.stats()["primitives"] == 1 and accel.bounds == scene.bounds
+    assert thicket.INVALID_ID == 4294967295 and issubclass(thicket.Error, RuntimeError)
+    return float(t[1, 1]) + float(d[0])

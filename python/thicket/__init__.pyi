@@ -1,0 +1,116 @@
+# Type stub of the thicket package (the compiled thicket._thicket and the pure Python files), for
+# IDEs and mypy. python/tests/test_stub.py checks that its names are the module's, and the module's
+# its own. Arrays are numpy arrays; shapes are in the docstrings (numpy's types do not carry them).
+import os
+from typing import Any, Dict, List, Optional, Tuple, TypedDict, Union, overload
+
+import numpy as np
+import numpy.typing as npt
+
+_Path = Union[str, bytes, "os.PathLike[str]", "os.PathLike[bytes]"]
+_Bounds = Tuple[Tuple[float, float, float], Tuple[float, float, float]]
+_Float32Array = npt.NDArray[np.float32]
+_UInt32Array = npt.NDArray[np.uint32]
+_Vector3 = Union[npt.ArrayLike, Any]  # 3 numbers: a list, a numpy array, an Open3D Tensor
+
+INVALID_ID: int
+"""primitive_ids and geometry_ids of a miss (Open3D's RaycastingScene.INVALID_ID): 4294967295."""
+
+class Error(RuntimeError):
+    """A bad spec, a malformed file, a saved structure of another scene."""
+
+class _CastResult(TypedDict):
+    t_hit: _Float32Array                 # (...)       inf on a miss
+    geometry_ids: _UInt32Array           # (...)       INVALID_ID on a miss
+    primitive_ids: _UInt32Array          # (...)       INVALID_ID on a miss
+    primitive_uvs: _Float32Array         # (..., 2)
+    primitive_normals: _Float32Array     # (..., 3)
+
+class _IntersectionList(TypedDict):
+    ray_splits: _UInt32Array             # (N + 1,)    ray i's crossings are [ray_splits[i], ray_splits[i+1])
+    ray_ids: _UInt32Array                # (M,)
+    t_hit: _Float32Array                 # (M,)
+    geometry_ids: _UInt32Array           # (M,)
+    primitive_ids: _UInt32Array          # (M,)
+    primitive_uvs: _Float32Array         # (M, 2)
+
+class _ClosestPoints(TypedDict):
+    points: _Float32Array                # (..., 3)
+    geometry_ids: _UInt32Array           # (...)
+    primitive_ids: _UInt32Array          # (...)
+    primitive_uvs: _Float32Array         # (..., 2)
+    primitive_normals: _Float32Array     # (..., 3)
+
+class Scene:
+    """Triangles and shapes that structures are built over."""
+    def __init__(self, vertices: npt.ArrayLike, triangles: npt.ArrayLike) -> None:
+        """vertices (V, 3) of any float dtype, finite; triangles (T, 3) of any integer dtype, indices in 0..V-1."""
+    @property
+    def name(self) -> str: ...
+    @property
+    def primitive_count(self) -> int: ...
+    @property
+    def triangle_count(self) -> int: ...
+    @property
+    def shape_count(self) -> int: ...
+    @property
+    def bounds(self) -> _Bounds:
+        """((xmin, ymin, zmin), (xmax, ymax, zmax))."""
+    @property
+    def vertices(self) -> _Float32Array:
+        """A copy, float32 (V, 3)."""
+    @property
+    def triangles(self) -> _UInt32Array:
+        """A copy, uint32 (T, 3)."""
+
+class Accel:
+    """An acceleration structure over a scene: thicket.build(scene, spec) or thicket.load(path, scene)."""
+    @property
+    def spec(self) -> str: ...
+    @property
+    def scene(self) -> Scene: ...
+    @property
+    def bounds(self) -> _Bounds: ...
+    def stats(self) -> Dict[str, Any]:
+        """spec, primitives, nodes, leaves, max_depth, bytes, primitive_bytes, sah_cost, build_ms, extra."""
+    def save(self, path: _Path, overwrite: bool = False) -> None: ...
+    def cast_rays(self, rays: _Float32Array, nthreads: int = 0, coherent: bool = False) -> _CastResult:
+        """rays float32 (..., 6) or (..., 8) -> closest hits, each array of the rays' leading shape."""
+    def test_occlusions(self, rays: _Float32Array, tnear: Optional[float] = None, tfar: Optional[float] = None,
+                        nthreads: int = 0, coherent: bool = False) -> npt.NDArray[np.bool_]:
+        """rays float32 (..., 6) or (..., 8) -> bool (...)."""
+    def count_intersections(self, rays: _Float32Array, nthreads: int = 0) -> npt.NDArray[np.int32]:
+        """rays float32 (..., 6) or (..., 8) -> int32 (...)."""
+    def list_intersections(self, rays: _Float32Array, nthreads: int = 0) -> _IntersectionList:
+        """rays float32 (..., 6) or (..., 8), N of them in row order -> every crossing, sorted by t per ray."""
+    def compute_closest_points(self, query_points: _Float32Array, nthreads: int = 0) -> _ClosestPoints:
+        """query_points float32 (..., 3)."""
+    def compute_distance(self, query_points: _Float32Array, nthreads: int = 0) -> _Float32Array:
+        """query_points float32 (..., 3) -> float32 (...)."""
+    def compute_signed_distance(self, query_points: _Float32Array, nthreads: int = 0, nsamples: int = 1) -> _Float32Array:
+        """query_points float32 (..., 3) -> float32 (...), negative inside."""
+    def compute_occupancy(self, query_points: _Float32Array, nthreads: int = 0, nsamples: int = 1) -> _Float32Array:
+        """query_points float32 (..., 3) -> float32 (...), 1 inside and 0 outside."""
+
+def load_scene(path: _Path) -> Scene:
+    """A PLY, OBJ, glTF or JSON scene file, or a built-in name ('cornell', 'teapot-patches')."""
+
+def build(scene: Scene, spec: str = "bvh8") -> Accel:
+    """A structure from a spec string NAME[:key=value,...] (see accels())."""
+
+def load(path: _Path, scene: Scene) -> Accel:
+    """A structure saved by Accel.save, for the same scene."""
+
+def accels() -> List[Dict[str, Any]]:
+    """Every registered structure: name, summary, partitioning, options, variants, can_load."""
+
+@overload
+def create_rays_pinhole(fov_deg: float, center: _Vector3, eye: _Vector3, up: _Vector3,
+                        width_px: int, height_px: int) -> _Float32Array:
+    """float32 (height_px, width_px, 6): origin, then the unnormalized direction (Open3D's)."""
+@overload
+def create_rays_pinhole(intrinsic_matrix: Union[npt.ArrayLike, Any], extrinsic_matrix: Union[npt.ArrayLike, Any],
+                        width_px: int, height_px: int) -> _Float32Array:
+    """intrinsic (3, 3), extrinsic (4, 4) world to camera -> float32 (height_px, width_px, 6)."""
+
+__all__: List[str]
