@@ -52,10 +52,10 @@ inline std::vector<OptionInfo> sbvh_options() {
 /// BVH, 4 for the structures that store leaves in 4-triangle blocks.
 inline OptionInfo sah_block_option(const char* default_value) {
     return {"sah-block",
-            "primitives the SAH counts as one test: a leaf of n costs ceil(n / sah-block), and below " +
+            "primitives the SAH counts as one test: a leaf of n costs ceil(n / sah-block), and nodes of at most " +
                 std::to_string(kBlockPackMax) +
-                " primitives binned-sah, sweep-sah and sbvh split nodes only where whole blocks go left, so the "
-                "leaves fill their blocks (4: bvh8's 4-triangle blocks; 1: every primitive counts)",
+                " primitives are split by binned-sah, sweep-sah and sbvh (its object splits) only where whole blocks "
+                "go left, so the leaves fill their blocks (4: bvh8's 4-triangle blocks; 1: every primitive counts)",
             default_value,
             {},
             1,

@@ -51,9 +51,9 @@ struct BvhBuildOptions {
     int max_leaf = 8;  ///< a node with more primitives is always split
     /// Primitives the SAH tests as one: a leaf of n costs ceil(n / sah_block) intersections. 1
     /// (the lecture's count); 4 for leaves stored as 4-triangle blocks (bvh8), where a leaf of 5
-    /// costs as much as one of 8. Above 1, the SAH builders (binned-sah, sweep-sah, sbvh) also
-    /// split nodes of at most kBlockPackMax primitives only where a multiple of sah_block goes
-    /// left, so such a node's leaves fill all their blocks but one.
+    /// costs as much as one of 8. Above 1, binned-sah and sweep-sah also split nodes of at most
+    /// kBlockPackMax primitives only where a multiple of sah_block goes left, so such a node's
+    /// leaves fill all their blocks but one (sbvh: its object splits; spatial ones stay free).
     uint32_t sah_block = 1;
     /// Threads the build may use (0: every core). Never changes the result: the tree is the same
     /// byte for byte on any number of threads.
