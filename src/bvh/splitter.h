@@ -76,7 +76,8 @@ inline float sah_split_cost(float left_half_area, uint32_t left_count, float rig
                             float parent_half_area, uint32_t block) {
     const float left = sah_units(left_count, block), right = sah_units(right_count, block);
     if (!(parent_half_area > 0.0f)) return kSahTraversalCost + kSahIntersectionCost * (left + right);
-    return kSahTraversalCost + kSahIntersectionCost * (left_half_area * left + right_half_area * right) / parent_half_area;
+    return kSahTraversalCost +
+           kSahIntersectionCost * (left_half_area * left + right_half_area * right) / parent_half_area;
 }
 
 inline float sah_leaf_cost(uint32_t count, uint32_t block) { return kSahIntersectionCost * sah_units(count, block); }

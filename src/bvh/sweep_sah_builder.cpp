@@ -44,7 +44,8 @@ public:
             sah_sweep(
                 node.count, [&](uint32_t k) -> const Aabb& { return bounds[order[k]]; }, [](uint32_t) { return 1u; },
                 [](uint32_t) { return 1u; }, node.bounds.half_area(), ctx_.options.sah_block,
-                right_area_.data() + node.first, right_count_.data() + node.first, [&](uint32_t p, float cost, uint32_t, uint32_t) {
+                right_area_.data() + node.first, right_count_.data() + node.first,
+                [&](uint32_t p, float cost, uint32_t, uint32_t) {
                     if (cost < best_cost) {
                         best_cost = cost;
                         best_axis = axis;
@@ -53,7 +54,8 @@ public:
                 });
         }
         if (best_axis < 0) return {};
-        if (best_cost >= sah_leaf_cost(node.count, ctx_.options.sah_block) && node.count <= uint32_t(ctx_.options.max_leaf)) return {};
+        const bool may_stop = node.count <= uint32_t(ctx_.options.max_leaf);
+        if (may_stop && best_cost >= sah_leaf_cost(node.count, ctx_.options.sah_block)) return {};
         apply(node, best_axis, best_left);
         return plain_split(best_left, best_axis);
     }

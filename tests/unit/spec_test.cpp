@@ -35,7 +35,9 @@ TEST(Spec, DefaultsAndCanonicalForm) {
 
 TEST(Spec, ErrorsListWhatIsAllowed) {
     EXPECT_NE(error_of("octopus").find("known structures: brute, bvh"), std::string::npos) << error_of("octopus");
-    EXPECT_NE(error_of("bvh:colour=red").find("allowed options: builder, bins, max-leaf, sah-block, traversal, alpha, budget, optimize, passes, isect"),
+    EXPECT_NE(error_of("bvh:colour=red")
+                  .find("allowed options: builder, bins, max-leaf, sah-block, traversal, alpha, budget, optimize, "
+                        "passes, isect"),
               std::string::npos)
         << error_of("bvh:colour=red");
     EXPECT_NE(error_of("bvh:builder=magic").find("choose one of midpoint, binned-sah, sweep-sah, lbvh, sbvh"),
