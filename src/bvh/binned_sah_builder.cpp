@@ -74,7 +74,8 @@ public:
             sah_sweep(
                 bins_, [&](uint32_t b) -> const Aabb& { return bins.bounds[axis][b]; },
                 [&](uint32_t b) { return counts[b]; }, [&](uint32_t b) { return counts[b]; }, node.bounds.half_area(),
-                right_area.data(), right_count.data(), [&](uint32_t p, float cost, uint32_t, uint32_t) {
+                ctx_.options.sah_block, right_area.data(), right_count.data(),
+                [&](uint32_t p, float cost, uint32_t, uint32_t) {
                     if (cost < best_cost) {
                         best_cost = cost;
                         best_axis = axis;
@@ -83,7 +84,8 @@ public:
                 });
         }
         if (best_axis < 0) return {};
-        if (best_cost >= sah_leaf_cost(node.count) && node.count <= uint32_t(ctx_.options.max_leaf)) return {};
+        const bool may_stop = node.count <= uint32_t(ctx_.options.max_leaf);
+        if (may_stop && best_cost >= sah_leaf_cost(node.count, ctx_.options.sah_block)) return {};
 
         // Partition with the same bin function, so the sides match the counts evaluated above.
         const auto& c = ctx_.prims.centroids;

@@ -44,10 +44,8 @@ Split Splitter::median_split(const NodeRange& node) {
     const int axis = cb.empty() ? 0 : max_axis(cb.extent());
     auto begin = ctx_.indices.begin() + node.first;
     const auto& c = ctx_.prims.centroids;
-    // Ties broken by index so the result does not depend on the library's nth_element.
-    std::nth_element(begin, begin + node.count / 2, begin + node.count, [&](uint32_t a, uint32_t b) {
-        return c[a][axis] < c[b][axis] || (c[a][axis] == c[b][axis] && a < b);
-    });
+    std::nth_element(begin, begin + node.count / 2, begin + node.count,
+                     [&](uint32_t a, uint32_t b) { return centroid_before(c[a][axis], a, c[b][axis], b); });
     return plain_split(node.count / 2, axis);
 }
 
@@ -94,6 +92,14 @@ std::pair<Task, Task> child_tasks(const Split& split, uint32_t left, uint32_t de
     return {l, r};
 }
 
+/// Whether a node of `count` primitives is split on block boundaries (block_split): with
+/// leaves weighed in blocks, by the SAH builders. Their splitters never see such a node nor any
+/// below it (sweep-sah's axis orders of its range go stale, unread).
+bool packs_blocks(const BvhBuildOptions& o, uint32_t count) {
+    return o.sah_block > 1 && count <= kBlockPackMax &&
+           (o.builder == BvhBuilder::BinnedSah || o.builder == BvhBuilder::SweepSah);
+}
+
 /// Bounds `node` (its range in leftFirst/count) unless task.bounded, and chooses its split, on up to `threads`
 /// threads if it is a top node. left_count 0: it stays a leaf.
 Split bound_and_split(BuildContext& ctx, Splitter& splitter, BvhNode& node, const Task& task, unsigned threads) {
@@ -107,7 +113,9 @@ Split bound_and_split(BuildContext& ctx, Splitter& splitter, BvhNode& node, cons
     const uint32_t depth = task.depth;
     if (range.count == 1) return {};
     Split split;
-    if (depth >= kMaxSahDepth) {
+    if (packs_blocks(ctx.options, range.count)) {
+        split = block_split(ctx, range, depth);
+    } else if (depth >= kMaxSahDepth) {
         split = splitter.median_split(range);
     } else {
         split = splitter.split(range, threads);

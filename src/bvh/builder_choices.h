@@ -48,6 +48,20 @@ inline std::vector<OptionInfo> sbvh_options() {
                         "0.3", 0.0, double(kMaxReferencesPerPrimitive - 1))};
 }
 
+/// The `sah-block` option (BvhBuildOptions::sah_block) with its default: 1 for the lecture's
+/// BVH, 4 for the structures that store leaves in 4-triangle blocks.
+inline OptionInfo sah_block_option(const char* default_value) {
+    return {"sah-block",
+            "primitives the SAH counts as one test: a leaf of n costs ceil(n / sah-block), and nodes of at most " +
+                std::to_string(kBlockPackMax) +
+                " primitives are split by binned-sah, sweep-sah and sbvh (its object splits) only where whole blocks "
+                "go left, so the leaves fill their blocks (4: bvh8's 4-triangle blocks; 1: every primitive counts)",
+            default_value,
+            {},
+            1,
+            16};
+}
+
 /// Reads the sbvh options into `o`.
 inline void read_sbvh_options(const AccelSpec& spec, BvhBuildOptions& o) {
     o.sbvh_alpha = spec.get_real("alpha");

@@ -24,8 +24,10 @@ public:
         Aabb lb, rb;
         for (uint32_t k = node.first; k < i; ++k) lb.grow(ctx_.prims.bounds[idx[k]]);
         for (uint32_t k = i; k < node.first + node.count; ++k) rb.grow(ctx_.prims.bounds[idx[k]]);
-        const float cost = sah_split_cost(lb.half_area(), left, rb.half_area(), node.count - left, node.bounds.half_area());
-        if (cost >= sah_leaf_cost(node.count) && node.count <= uint32_t(ctx_.options.max_leaf)) return {};
+        const uint32_t block = ctx_.options.sah_block;
+        const float cost =
+            sah_split_cost(lb.half_area(), left, rb.half_area(), node.count - left, node.bounds.half_area(), block);
+        if (cost >= sah_leaf_cost(node.count, block) && node.count <= uint32_t(ctx_.options.max_leaf)) return {};
         Split split;
         split.left_count = left;
         split.axis = axis;

@@ -22,6 +22,7 @@ BvhBuildOptions build_options(const AccelSpec& spec) {
     o.builder = spec.choice("builder", kBvhBuilders);
     o.bins = int(spec.get_int("bins"));
     o.max_leaf = int(spec.get_int("max-leaf"));
+    o.sah_block = uint32_t(spec.get_int("sah-block"));
     o.threads = spec.threads;
     o.optimize = spec.choice("optimize", kBvhOptimizers);
     o.optimize_passes = int(spec.get_int("passes"));
@@ -42,6 +43,7 @@ void register_bvh(std::vector<AccelInfo>& registry) {
         choice_option("builder", kBvhBuilderHelp, BvhBuilder::BinnedSah, kBvhBuilders),
         {"bins", "bins per axis for binned-sah", "8", {}, 2, 256},
         {"max-leaf", "largest leaf; bigger nodes are split even when the SAH would stop", "8", {}, 1, 255},
+        sah_block_option("1"),
         choice_option("traversal",
                       "recursive (the slide), stack (iterative), or ordered: nearest child by entry distance, by "
                       "the ray's sign on the stored split axis, or on the axis of widest child-centroid separation",
@@ -58,6 +60,7 @@ void register_bvh(std::vector<AccelInfo>& registry) {
     info.variants.push_back("bvh:builder=binned-sah,traversal=ordered-distance,isect=watertight");
     info.variants.push_back("bvh:builder=binned-sah,bins=32,max-leaf=1,traversal=ordered-distance");
     info.variants.push_back("bvh:builder=binned-sah,optimize=reinsertion,traversal=ordered-axis");
+    info.variants.push_back("bvh:builder=sweep-sah,sah-block=4,traversal=ordered-distance");
     info.variants.push_back("bvh:builder=lbvh,optimize=reinsertion,max-leaf=1,traversal=ordered-centroid");
     info.variants.push_back("bvh:builder=sbvh,traversal=ordered-distance");
     info.variants.push_back("bvh:budget=1,builder=sbvh,max-leaf=1,traversal=ordered-axis");

@@ -52,17 +52,35 @@ struct BuildContext {
     BvhBuildOptions options;
 };
 
-/// SAH cost of a split relative to its parent; a degenerate (zero-area) parent makes every
-/// split cost more than the leaf, so only max_leaf forces one.
-inline float sah_split_cost(float left_half_area, uint32_t left_count, float right_half_area, uint32_t right_count,
-                            float parent_half_area) {
-    if (!(parent_half_area > 0.0f)) return kSahTraversalCost + kSahIntersectionCost * float(left_count + right_count);
-    return kSahTraversalCost +
-           kSahIntersectionCost * (left_half_area * float(left_count) + right_half_area * float(right_count)) /
-               parent_half_area;
+/// The order of primitives along an axis: by centroid coordinate, NaN after every number, ties by
+/// primitive id. A total order, so sorts never see an inconsistent comparison (NaN compares false
+/// both ways: as a sort key it made "equal" intransitive) and the result never depends on the
+/// library's sort.
+inline bool centroid_before(float ka, uint32_t a, float kb, uint32_t b) {
+    const bool na = ka != ka, nb = kb != kb;  // NaN
+    if (na != nb) return nb;
+    if (!na && ka != kb) return ka < kb;
+    return a < b;
 }
 
-inline float sah_leaf_cost(uint32_t count) { return kSahIntersectionCost * float(count); }
+/// What a leaf of `count` primitives costs to test, in primitive tests: its blocks of `block`
+/// (BvhBuildOptions::sah_block; 1: the count itself).
+inline float sah_units(uint32_t count, uint32_t block) {
+    return block <= 1 ? float(count) : float((uint64_t(count) + block - 1) / block);
+}
+
+/// SAH cost of a split relative to its parent, leaves weighed in blocks of `block`; a
+/// degenerate (zero-area) parent makes every split cost more than the leaf, so only max_leaf
+/// forces one.
+inline float sah_split_cost(float left_half_area, uint32_t left_count, float right_half_area, uint32_t right_count,
+                            float parent_half_area, uint32_t block) {
+    const float left = sah_units(left_count, block), right = sah_units(right_count, block);
+    if (!(parent_half_area > 0.0f)) return kSahTraversalCost + kSahIntersectionCost * (left + right);
+    return kSahTraversalCost +
+           kSahIntersectionCost * (left_half_area * left + right_half_area * right) / parent_half_area;
+}
+
+inline float sah_leaf_cost(uint32_t count, uint32_t block) { return kSahIntersectionCost * sah_units(count, block); }
 
 /// The SAH sweep every builder runs along one axis: `slots` consecutive slots (bins, or
 /// primitives in axis order), plane p lying between slots p and p + 1. box_of(s) is slot s's box,
@@ -70,10 +88,11 @@ inline float sah_leaf_cost(uint32_t count) { return kSahIntersectionCost * float
 /// on the right of every plane before s (the same count for object splits; a straddling
 /// reference of a spatial split enters in one bin and exits in another). right_area and
 /// right_count are scratch for `slots` entries. Calls candidate(p, cost, left_count, right_count)
-/// for every plane with references on both sides, from left to right.
+/// for every plane with references on both sides, from left to right; costs weigh leaves in
+/// blocks of `block` (sah_units).
 template <class BoxOf, class Enters, class Exits, class Candidate>
 inline void sah_sweep(uint32_t slots, BoxOf&& box_of, Enters&& enters, Exits&& exits, float parent_half_area,
-                      float* right_area, uint32_t* right_count, Candidate&& candidate) {
+                      uint32_t block, float* right_area, uint32_t* right_count, Candidate&& candidate) {
     if (slots < 2) return;
     Aabb acc;
     uint32_t count = 0;
@@ -89,8 +108,8 @@ inline void sah_sweep(uint32_t slots, BoxOf&& box_of, Enters&& enters, Exits&& e
         acc.grow(box_of(p));
         count += enters(p);
         if (count == 0 || right_count[p] == 0) continue;
-        candidate(p, sah_split_cost(acc.half_area(), count, right_area[p], right_count[p], parent_half_area), count,
-                  right_count[p]);
+        candidate(p, sah_split_cost(acc.half_area(), count, right_area[p], right_count[p], parent_half_area, block),
+                  count, right_count[p]);
     }
 }
 
@@ -208,6 +227,13 @@ public:
 protected:
     BuildContext& ctx_;
 };
+
+/// The split of a node of at most kBlockPackMax primitives when options.sah_block is above 1
+/// (block_builder.cpp): a full SAH sweep on each axis whose planes leave a multiple of sah_block
+/// on the left (any plane when the node holds no more than one block), so that every leaf below
+/// but one is full. Reorders the range like Splitter::split; a leaf (left_count 0) when the SAH
+/// prefers one and count <= max_leaf. Past kMaxSahDepth it halves the node on a block boundary.
+Split block_split(BuildContext& ctx, const NodeRange& node, uint32_t depth);
 
 std::unique_ptr<Splitter> make_midpoint_splitter(BuildContext& ctx);
 std::unique_ptr<Splitter> make_binned_sah_splitter(BuildContext& ctx);

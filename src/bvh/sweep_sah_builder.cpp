@@ -23,7 +23,7 @@ public:
                 order.resize(n);
                 std::iota(order.begin(), order.end(), 0u);
                 std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
-                    return c[a][axis] < c[b][axis] || (c[a][axis] == c[b][axis] && a < b);
+                    return centroid_before(c[a][axis], a, c[b][axis], b);
                 });
             }
         });
@@ -43,8 +43,9 @@ public:
             // Plane p puts order[0..p] on the left; this range's own scratch slots (tasks run at once).
             sah_sweep(
                 node.count, [&](uint32_t k) -> const Aabb& { return bounds[order[k]]; }, [](uint32_t) { return 1u; },
-                [](uint32_t) { return 1u; }, node.bounds.half_area(), right_area_.data() + node.first,
-                right_count_.data() + node.first, [&](uint32_t p, float cost, uint32_t, uint32_t) {
+                [](uint32_t) { return 1u; }, node.bounds.half_area(), ctx_.options.sah_block,
+                right_area_.data() + node.first, right_count_.data() + node.first,
+                [&](uint32_t p, float cost, uint32_t, uint32_t) {
                     if (cost < best_cost) {
                         best_cost = cost;
                         best_axis = axis;
@@ -53,7 +54,8 @@ public:
                 });
         }
         if (best_axis < 0) return {};
-        if (best_cost >= sah_leaf_cost(node.count) && node.count <= uint32_t(ctx_.options.max_leaf)) return {};
+        const bool may_stop = node.count <= uint32_t(ctx_.options.max_leaf);
+        if (may_stop && best_cost >= sah_leaf_cost(node.count, ctx_.options.sah_block)) return {};
         apply(node, best_axis, best_left);
         return plain_split(best_left, best_axis);
     }

@@ -61,9 +61,11 @@ public:
             kids.push_back(bin_.nodes[open].leftFirst + 1);
         }
 
-        // Zeroed as a whole: the 20 bytes of padding are saved with the node, and a saved
-        // structure must be a function of the scene and the spec alone (never of stack garbage).
-        Node node;
+        // Zeroed as a whole where it is stored: the 20 bytes of padding are saved with the node,
+        // and a saved structure must be a function of the scene and the spec alone. (A node built
+        // on the stack and assigned is not enough: a copy need not carry the padding.) Nothing
+        // below grows tree_.nodes, so the reference holds.
+        Node& node = tree_.nodes[index];
         std::memset(&node, 0, sizeof node);
         for (auto& axis : node.box) {
             std::fill(std::begin(axis[0]), std::end(axis[0]), kInf);
@@ -98,7 +100,6 @@ public:
         const double area_ratio = root_area > 0 ? double(node_box.area()) / root_area : 0.0;
         tree_.sah_cost += kSahTraversalCost * area_ratio;
         tree_.embree_sah_cost += area_ratio;
-        tree_.nodes[index] = node;
         // Children after the parent, depth first: the last lane pushed first, so lane 0 is next.
         for (size_t lane = kids.size(); lane-- > 0;)
             if ((node.valid >> lane & 1) && !is_leaf(kids[lane]))

@@ -20,6 +20,7 @@ Bvh8Options bvh8_options(const AccelSpec& spec) {
     o.binary.builder = spec.choice("builder", kBvhBuilders);
     o.binary.bins = int(spec.get_int("bins"));
     o.binary.max_leaf = int(spec.get_int("max-leaf"));
+    o.binary.sah_block = uint32_t(spec.get_int("sah-block"));
     o.binary.threads = spec.threads;
     o.binary.optimize = spec.choice("optimize", kBvhOptimizers);
     o.binary.optimize_passes = int(spec.get_int("passes"));
@@ -65,6 +66,7 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
                        {"medium", {{"builder", "binned-sah"}, {"bins", kDefaultBins}, {"optimize", "none"}}},
                        {"high", {{"builder", "sbvh"}, {"bins", kDefaultBins}, {"optimize", "reinsertion"}}}}),
         {"max-leaf", "largest binary leaf (one 4-triangle block per 4)", "4", {}, 1, 255},
+        sah_block_option("4"),
         {"leaf-merge",
          "binary subtrees of at most this many primitives become one leaf: 4 fills one block; 8 trades "
          "speed for memory (fewer, fuller nodes)",

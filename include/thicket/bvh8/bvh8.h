@@ -33,7 +33,8 @@
 namespace thicket {
 
 struct Bvh8Options {
-    BvhBuildOptions binary{BvhBuilder::BinnedSah, 16, 4};  ///< the binary BVH that is collapsed
+    /// The binary BVH that is collapsed: leaves weighed in 4-triangle blocks (sah_block 4).
+    BvhBuildOptions binary{BvhBuilder::BinnedSah, 16, 4, 4};
     bvh8::Isa isa = bvh8::Isa::Scalar;
     uint32_t merge_below = 4;  ///< subtrees of at most this many primitives become one leaf
     bool packets = true;       ///< coherent batches go through the packet kernels
