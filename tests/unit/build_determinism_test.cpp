@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "saved_bytes.h"
 #include "thicket/accel/registry.h"
 #include "thicket/bvh/build.h"
 
@@ -59,17 +60,6 @@ Scene degenerate_scene(int count, int pile) {
     return scene;
 }
 
-/// Fills the stack below the caller with `value`, so that whatever a later build leaves
-/// uninitialised there reads differently from one build to the next.
-[[gnu::noinline]] void scribble_stack(unsigned char value) {
-    volatile unsigned char buffer[1 << 16];
-    for (size_t i = 0; i < sizeof buffer; ++i) buffer[i] = value;
-}
-
-std::string saved(const std::string& spec, const Scene& scene, unsigned threads, unsigned char scribble) {
-    scribble_stack(scribble);
-    return saved_accel_bytes(*build_accel(spec, scene, threads), scene);
-}
 
 /// Bytes that differ at the same offset of `a` and `b`.
 size_t differing_bytes(const std::string& a, const std::string& b) {
@@ -81,10 +71,10 @@ size_t differing_bytes(const std::string& a, const std::string& b) {
 /// Builds `spec` on 1 thread twice (the stack scribbled differently) and on 2 and 7 threads;
 /// every file must be the first one's bytes.
 void expect_same_bytes(const std::string& spec, const Scene& scene) {
-    const std::string first = saved(spec, scene, 1, 0x00);
+    const std::string first = thicket::testing::saved_after_scribble(spec, scene, 1, 0x00);
     ASSERT_GT(first.size(), 0u) << spec;
     for (const auto& [threads, scribble] : {std::pair{1u, 0xA5}, std::pair{2u, 0x5A}, std::pair{7u, 0xFF}}) {
-        const std::string other = saved(spec, scene, threads, (unsigned char)scribble);
+        const std::string other = thicket::testing::saved_after_scribble(spec, scene, threads, (unsigned char)scribble);
         const auto diff = std::mismatch(first.begin(), first.end(), other.begin(), other.end());
         EXPECT_TRUE(diff.first == first.end() && diff.second == other.end())
             << spec << " on " << threads << " thread(s): " << first.size() << " and " << other.size()

@@ -57,6 +57,21 @@ Vec3 random_direction(std::mt19937& rng) {
     }
 }
 
+/// Both slab tests of one ray against one node under one ISA.
+struct BothTests {
+    uint32_t exact = 0, fast = 0;  ///< lanes entered
+    float exact_dist[8], fast_dist[8];
+    bool fma = false;  ///< whether the fast test took the FMA path
+};
+BothTests run_both(Isa isa, const bvh8::TraceContext& ctx, const bvh8::Node& node, const Ray& ray) {
+    const bvh8::KernelTable& k = bvh8::kernels_for(isa);
+    BothTests b;
+    uint32_t any = 0;
+    b.exact = k.node_test(&node, 1, ray, ray.tmax, b.exact_dist, &any);
+    b.fast = k.node_test_fast(ctx, &node, 1, ray, ray.tmax, b.fast_dist, &any, &b.fma);
+    return b;
+}
+
 struct Outcome {
     size_t rays = 0, fma_rays = 0, exact_entered = 0, fma_only = 0, lanes = 0;
 };
@@ -78,14 +93,10 @@ void check_never_culls(const Vec3& centre, float size, float distance, unsigned 
         const int tp = tmax_pick(rng);
         ray.tmax = tp == 0 ? kInfinity : distance * (tp == 1 ? 1.0f - 1e-6f : (tp == 2 ? 1.0f : 1.0f + 1e-6f));
         for (Isa isa : bvh8::cpu_isas()) {
-            const bvh8::KernelTable& k = bvh8::kernels_for(isa);
-            float exact_dist[8], fma_dist[8];
-            uint32_t any = 0;
-            bool fma = false;
-            const uint32_t exact = k.node_test(&node, 1, ray, ray.tmax, exact_dist, &any);
-            const uint32_t fast = k.node_test_fast(ctx, &node, 1, ray, ray.tmax, fma_dist, &any, &fma);
+            const BothTests b = run_both(isa, ctx, node, ray);
+            const uint32_t exact = b.exact, fast = b.fast;
             ++out.rays;
-            out.fma_rays += fma;
+            out.fma_rays += b.fma;
             ASSERT_EQ(exact & ~fast, 0u) << bvh8::isa_name(isa) << ": the FMA test culled a box the exact test enters"
                                          << " (centre " << centre.x << ", distance " << distance << ", trial " << trial
                                          << ")";
@@ -96,7 +107,7 @@ void check_never_culls(const Vec3& centre, float size, float distance, unsigned 
                     continue;
                 }
                 ++out.exact_entered;
-                ASSERT_LE(fma_dist[lane], exact_dist[lane])
+                ASSERT_LE(b.fast_dist[lane], b.exact_dist[lane])
                     << bvh8::isa_name(isa) << ": entry distance above the exact test's, trial " << trial;
             }
         }
@@ -134,13 +145,9 @@ TEST(Bvh8FmaSlab, RaysItCannotBoundKeepTheExactTest) {
     far_away.org = Vec3(3e37f, 0.0f, 0.0f), far_away.dir = Vec3(-1.0f, 1e-30f, 1e-30f);
     for (const Ray& ray : {parallel, far_away})
         for (Isa isa : bvh8::cpu_isas()) {
-            const bvh8::KernelTable& k = bvh8::kernels_for(isa);
-            float exact_dist[8], fma_dist[8];
-            uint32_t any = 0;
-            bool fma = true;
-            const uint32_t exact = k.node_test(&node, 1, ray, ray.tmax, exact_dist, &any);
-            EXPECT_EQ(k.node_test_fast(ctx, &node, 1, ray, ray.tmax, fma_dist, &any, &fma), exact);
-            EXPECT_FALSE(fma) << bvh8::isa_name(isa);
+            const BothTests b = run_both(isa, ctx, node, ray);
+            EXPECT_EQ(b.fast, b.exact) << bvh8::isa_name(isa);
+            EXPECT_FALSE(b.fma) << bvh8::isa_name(isa);
         }
 }
 

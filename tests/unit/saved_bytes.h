@@ -1,7 +1,7 @@
 #pragma once
 // Editing saved structure files the way a careless tool or a fuzzer would: the bytes changed,
-// then the checksum recomputed so that the change reaches the structure's validator. Shared by
-// the saved_*_test.cpp files.
+// then the checksum recomputed so that the change reaches the structure's validator; and the
+// determinism tests' scribbled build. Shared by the saved_*_test.cpp and build_determinism_test.cpp files.
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -50,6 +50,21 @@ inline std::string error_of(const std::string& bytes, const Scene& scene) {
         return e.what();
     }
     return "";
+}
+
+/// Fills the stack below the caller with `value`, so that whatever a later call leaves
+/// uninitialised there reads differently from one build to the next.
+[[gnu::noinline]] inline void scribble_stack(unsigned char value) {
+    volatile unsigned char buffer[1 << 16];
+    for (size_t i = 0; i < sizeof buffer; ++i) buffer[i] = value;
+}
+
+/// The saved bytes of `spec` built over `scene` on `threads` threads, the stack scribbled with
+/// `value` first (the determinism tests' build).
+inline std::string saved_after_scribble(const std::string& spec, const Scene& scene, unsigned threads,
+                                        unsigned char value) {
+    scribble_stack(value);
+    return saved_accel_bytes(*build_accel(spec, scene, threads), scene);
 }
 
 }  // namespace thicket::testing

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "saved_bytes.h"
 #include "thicket/accel/registry.h"
 
 using namespace thicket;
@@ -40,17 +41,6 @@ Scene soup_with_degenerates() {
     return scene;
 }
 
-/// Fills the stack below the caller with `value`, so that whatever a later call leaves
-/// uninitialised reads as that value.
-[[gnu::noinline]] void scribble_stack(unsigned char value) {
-    volatile unsigned char buffer[1 << 16];
-    for (size_t i = 0; i < sizeof buffer; ++i) buffer[i] = value;
-}
-
-std::string saved_after_scribble(const std::string& spec, const Scene& scene, unsigned threads, unsigned char value) {
-    scribble_stack(value);
-    return saved_accel_bytes(*build_accel(spec, scene, threads), scene);
-}
 
 }  // namespace
 
@@ -62,9 +52,9 @@ TEST(SavedDeterminism, EverySavedVariantIsTheSameBytesOnAnyThreadsAndStack) {
         if (!parsed.info->load) continue;  // cannot be saved
         // tetra's payload records TetGen's running time (its statistics): not a function of the input.
         if (parsed.name == "tetra") continue;
-        const std::string one = saved_after_scribble(spec, scene, 1, 0x00);
+        const std::string one = thicket::testing::saved_after_scribble(spec, scene, 1, 0x00);
         for (const auto& [threads, scribble] : {std::pair{2u, 0xA5}, std::pair{7u, 0x5A}}) {
-            const std::string other = saved_after_scribble(spec, scene, threads, (unsigned char)scribble);
+            const std::string other = thicket::testing::saved_after_scribble(spec, scene, threads, (unsigned char)scribble);
             const auto diff = std::mismatch(one.begin(), one.end(), other.begin(), other.end());
             EXPECT_TRUE(diff.first == one.end() && diff.second == other.end())
                 << spec << " on " << threads << " threads: " << one.size() << " and " << other.size()
