@@ -200,10 +200,7 @@ bool use_isa(benchmark::State& state, bvh8::Isa& isa) {
 // 8-wide nodes: 8 slab tests each, the mask of children entered and their entry distances; one
 // ray tests 64 nodes, so that the per-ray setup (3 divisions, the octant) is amortized as in a
 // traversal. Items are nodes.
-void BM_Bvh8NodeTest(benchmark::State& state) {
-    bvh8::Isa isa;
-    if (!use_isa(state, isa)) return;
-    const auto test = bvh8::kernels_for(isa).node_test;
+AlignedVector<bvh8::Node, 64> random_nodes() {
     Pcg32 rng(6);
     AlignedVector<bvh8::Node, 64> nodes(256);
     for (bvh8::Node& n : nodes) {
@@ -215,6 +212,14 @@ void BM_Bvh8NodeTest(benchmark::State& state) {
             for (int a = 0; a < 3; ++a) n.box[a][0][lane] = b.min[a], n.box[a][1][lane] = b.max[a];
         }
     }
+    return nodes;
+}
+
+void BM_Bvh8NodeTest(benchmark::State& state) {
+    bvh8::Isa isa;
+    if (!use_isa(state, isa)) return;
+    const auto test = bvh8::kernels_for(isa).node_test;
+    const AlignedVector<bvh8::Node, 64> nodes = random_nodes();
     const std::vector<Ray> rays = cube_rays(7);
     size_t i = 0;
     alignas(32) float dist[8];
@@ -226,6 +231,29 @@ void BM_Bvh8NodeTest(benchmark::State& state) {
     state.SetItemsProcessed(int64_t(state.iterations()) * 64);
 }
 BENCHMARK(BM_Bvh8NodeTest)->DenseRange(0, 3);
+
+// The same nodes and rays through the traversal's slab test: one multiply-add per plane against
+// the tree's plane bounds (docs/bvh8.md, "The slab test at one FMA per plane").
+void BM_Bvh8NodeTestFma(benchmark::State& state) {
+    bvh8::Isa isa;
+    if (!use_isa(state, isa)) return;
+    const auto test = bvh8::kernels_for(isa).node_test_fast;
+    const AlignedVector<bvh8::Node, 64> nodes = random_nodes();
+    bvh8::TraceContext ctx;
+    bvh8::set_plane_bounds(ctx, nodes.data(), nodes.size());
+    const std::vector<Ray> rays = cube_rays(7);
+    size_t i = 0;
+    alignas(32) float dist[8];
+    uint32_t any = 0;
+    bool fma = false;
+    for (auto _ : state) {
+        const size_t k = i++ & (kInputs - 1);
+        benchmark::DoNotOptimize(test(ctx, &nodes[(k * 64) & 255], 64, rays[k], kInfinity, dist, &any, &fma));
+    }
+    if (!fma) state.SkipWithError("the rays did not take the FMA path");
+    state.SetItemsProcessed(int64_t(state.iterations()) * 64);
+}
+BENCHMARK(BM_Bvh8NodeTestFma)->DenseRange(0, 3);
 
 // One 4-triangle block: Moller-Trumbore on 4 lanes, bitwise the scalar test's results.
 void BM_Bvh8BlockTest(benchmark::State& state) {

@@ -218,7 +218,9 @@ Command add_bench_command(CLI::App& app) {
         "primitives tested per ray (a separate untimed pass), build time, memory, SAH cost, and agreement with "
         "embree-high ray for ray. Ray sets are those of `thicket rays` (see its --help). A structure whose pass "
         "over a set would take longer than --pass-budget on one thread is timed on every k-th ray (marked 1/k).\n"
-        "Timings are only as quiet as the machine: the load average is printed before and after the run.");
+        "Timings are only as quiet as the machine: the load average is printed before and after the run.\n"
+        "THICKET_ISA=scalar|sse|avx2|avx512 caps bvh8's kernels and Embree's device alike (Embree's sse2 for "
+        "scalar and sse), so that a capped run compares the same instruction sets.");
     cmd->add_option("SCENE", args->scenes, scene_help())->required()->type_name("SCENE...");
     cmd->add_option("-a,--accel", args->accels,
                     "structure spec to measure (repeatable); `all` = every registered variant (`thicket accels`); "
