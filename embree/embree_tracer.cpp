@@ -5,11 +5,12 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <mutex>
 #include <cstdlib>
+#include <mutex>
 #include <string>
 #include <vector>
 
+#include "thicket/bvh8/isa.h"
 #include "thicket/core/error.h"
 #include "thicket/util/parallel.h"
 
@@ -39,15 +40,19 @@ void on_error(void* user, RTCError code, const char* message) {
             "Embree error " + std::to_string(int(code)) + ": " + (message ? message : "(no message)");
 }
 
-/// Embree's name for the level THICKET_ISA asks for ("" when unset or auto): Embree has no scalar
-/// kernels, so scalar and sse both map to its SSE2 level.
+/// Embree's name for the level THICKET_ISA caps bvh8 to ("" when it is unset): the level comes
+/// from bvh8's own reading of the variable (resolve_isa, which refuses a bad value with its
+/// message); Embree has no scalar kernels, so scalar and sse both give its SSE2 level.
 std::string embree_isa_for_env() {
     const char* env = std::getenv("THICKET_ISA");
-    if (!env) return "";
-    const std::string level = env;
-    if (level == "scalar" || level == "sse") return "sse2";
-    if (level == "avx2" || level == "avx512") return level;
-    return "";  // auto, or a value bvh8 refuses with its own message
+    if (!env || !*env) return "";
+    switch (bvh8::resolve_isa(bvh8::kAutoIsa)) {
+    case bvh8::Isa::Scalar:
+    case bvh8::Isa::Sse: return "sse2";
+    case bvh8::Isa::Avx2: return "avx2";
+    case bvh8::Isa::Avx512: return "avx512";
+    }
+    return "";
 }
 
 class EmbreeTracer final : public Tracer {
