@@ -8,6 +8,10 @@ inline constexpr int kNodeLanes = 8;
 
 /// 8 floats of a node plane (32-byte aligned).
 __attribute__((always_inline)) inline __m256 node_load(const float* p) { return _mm256_load_ps(p); }
+/// 8 quantized planes (QNode::q, 8 bytes), each zero-extended and converted exactly to float.
+__attribute__((always_inline)) inline __m256 node_load_u8(const uint8_t* p) {
+    return _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p))));
+}
 /// x in every lane.
 __attribute__((always_inline)) inline __m256 node_splat(float x) { return _mm256_set1_ps(x); }
 __attribute__((always_inline)) inline __m256 node_zero() { return _mm256_setzero_ps(); }

@@ -19,6 +19,8 @@ using BlockMask = bool;
 /// kNodeLanes / kBlockLanes floats from p, aligned as node planes and block rows are.
 __attribute__((always_inline)) inline float node_load(const float* p) { return *p; }
 __attribute__((always_inline)) inline float block_load(const float* p) { return *p; }
+/// One quantized plane (QNode::q) as float (exact).
+__attribute__((always_inline)) inline float node_load_u8(const uint8_t* p) { return float(*p); }
 /// x in every lane.
 __attribute__((always_inline)) inline float node_splat(float x) { return x; }
 __attribute__((always_inline)) inline float block_splat(float x) { return x; }

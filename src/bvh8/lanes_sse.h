@@ -15,6 +15,15 @@ using NodeLanes = __m128;
 
 /// kNodeLanes floats of a node plane (16-byte aligned).
 __attribute__((always_inline)) inline __m128 node_load(const float* p) { return _mm_load_ps(p); }
+/// kNodeLanes quantized planes (QNode::q, 4 bytes), zero-extended and converted exactly to float:
+/// SSE2 has no byte-to-dword extension, so two unpacks with zero.
+__attribute__((always_inline)) inline __m128 node_load_u8(const uint8_t* p) {
+    int bytes;
+    __builtin_memcpy(&bytes, p, sizeof bytes);
+    const __m128i zero = _mm_setzero_si128();
+    const __m128i words = _mm_unpacklo_epi8(_mm_cvtsi32_si128(bytes), zero);
+    return _mm_cvtepi32_ps(_mm_unpacklo_epi16(words, zero));
+}
 __attribute__((always_inline)) inline __m128 node_splat(float x) { return _mm_set1_ps(x); }
 __attribute__((always_inline)) inline __m128 node_zero() { return _mm_setzero_ps(); }
 __attribute__((always_inline)) inline void node_store(float* p, __m128 v) { _mm_storeu_ps(p, v); }

@@ -12,14 +12,16 @@ namespace thicket::bvh8 {
 void fill_stats(AccelStats& s, const StatsFigures& f) {
     const Tree& tree = *f.tree;
     s.primitives = f.primitives;
-    s.nodes = tree.nodes.size() + tree.leaves;  // AccelStats counts leaves as nodes
+    s.nodes = f.node_count + tree.leaves;  // AccelStats counts leaves as nodes
     s.leaves = tree.leaves;
     s.max_depth = tree.max_depth;
-    s.bytes = (tree.nodes.size() + f.other_nodes) * sizeof(Node) + f.ids * sizeof(uint32_t);
+    s.bytes = f.node_count * f.node_bytes + f.other_nodes * sizeof(Node) + f.ids * sizeof(uint32_t);
     s.primitive_bytes = f.primitive_bytes;
     s.sah_cost = tree.sah_cost;
     s.extra.emplace_back("isa", f.isa);
-    s.extra.emplace_back("8-wide nodes", std::to_string(tree.nodes.size()));
+    s.extra.emplace_back("8-wide nodes", std::to_string(f.node_count) +
+                                              (f.node_bytes == sizeof(Node) ? "" : " (compressed, " +
+                                                  std::to_string(f.node_bytes) + " bytes each)"));
     s.extra.emplace_back("Embree SAH", std::to_string(tree.embree_sah_cost));
     if (f.blocks) {
         const size_t lanes = f.block_count * 4;

@@ -20,6 +20,7 @@
 #include "thicket/bvh/build.h"
 #include "thicket/bvh8/blocks.h"
 #include "thicket/bvh8/build.h"
+#include "thicket/bvh8/compress.h"
 #include "thicket/bvh8/bvh8_io.h"
 #include "thicket/bvh8/closest_point.h"
 #include "thicket/bvh8/isa.h"
@@ -38,6 +39,7 @@ struct Bvh8Options {
     bvh8::Isa isa = bvh8::Isa::Scalar;
     uint32_t merge_below = 4;  ///< subtrees of at most this many primitives become one leaf
     bool packets = true;       ///< coherent batches go through the packet kernels
+    bool compressed = false;   ///< nodes=compressed: QNodes (96 bytes) instead of Nodes (256)
 };
 
 namespace bvh8 {
@@ -91,6 +93,7 @@ public:
                 options.merge_below);
             bvh8::validate_tree(tree_, ids_.size());
         }
+        adopt_layout(options.compressed);
         set_contexts();
     }
     /// Adopts a saved tree (bvh8::read_tree) after proving that it answers for `prims` as the
@@ -120,6 +123,7 @@ public:
             bvh8::prove_ids(tree_, blocks_, ids_, prim_bounds, clip);
             references_ = ids_.size();
         }
+        adopt_layout(options.compressed);
         set_contexts();
     }
     Bvh8(const Bvh8&) = delete;  // ctx_ points into this object
@@ -129,7 +133,7 @@ public:
 
     template <class C>
     Hit closest(const Ray& ray, C& counters) const {
-        if (tree_.nodes.empty()) return miss_for(ray);
+        if (node_count_ == 0) return miss_for(ray);
         if constexpr (std::is_same_v<C, RayCounters>)
             return kernels_->closest[kLeafKind][1](ctx_, ray, &counters);
         else
@@ -137,7 +141,7 @@ public:
     }
     template <class C>
     bool any(const Ray& ray, C& counters) const {
-        if (tree_.nodes.empty()) return false;
+        if (node_count_ == 0) return false;
         if constexpr (std::is_same_v<C, RayCounters>)
             return kernels_->any[kLeafKind][1](ctx_, ray, &counters);
         else
@@ -149,7 +153,7 @@ public:
     NearestPoint closest_point(const Vec3& p) const override {
         if constexpr (kBlocks)
             return bvh8::closest_point(*kernels_,
-                                       {tree_.nodes.empty() ? nullptr : &ctx_,
+                                       {node_count_ == 0 ? nullptr : &ctx_,
                                         slivers_.tree.nodes.empty() ? nullptr : &sliver_ctx_},
                                        p);
         else
@@ -182,6 +186,8 @@ public:
     AccelStats stats() const override {
         AccelStats s = this->base_stats();
         bvh8::fill_stats(s, {.tree = &tree_,
+                             .node_count = node_count_,
+                             .node_bytes = qnodes_.empty() ? sizeof(bvh8::Node) : sizeof(bvh8::QNode),
                              .isa = kernels_->isa,
                              .primitives = primitives_,
                              .references = references_,
@@ -197,9 +203,18 @@ public:
         return s;
     }
 
-    void save(std::ostream& out) const override { bvh8::write_tree(out, tree_, blocks_, ids_); }
+    /// Compressed nodes are saved decoded (the format has one node layout: bvh8::decode_nodes);
+    /// loading them with nodes=compressed quantizes those boxes again, which contain the exact ones.
+    void save(std::ostream& out) const override {
+        if (qnodes_.empty()) return bvh8::write_tree(out, tree_, blocks_, ids_);
+        bvh8::Tree decoded = tree_;
+        bvh8::decode_nodes(qnodes_, decoded.nodes);
+        bvh8::write_tree(out, decoded, blocks_, ids_);
+    }
 
+    /// The tree's figures; its nodes are empty when they are compressed (qnodes()).
     const bvh8::Tree& tree() const { return tree_; }
+    const bvh8::QNodes& qnodes() const { return qnodes_; }
     const bvh8::KernelTable& kernels() const { return *kernels_; }
     const bvh8::Blocks& blocks() const { return blocks_; }
     /// The degenerate triangles' blocks, searched by closest_point() only.
@@ -209,7 +224,7 @@ protected:
     /// Coherent batches: each 16 consecutive rays that share a direction octant (and have no zero
     /// direction component) go through the packet kernel; others, and incoherent batches, ray by ray.
     void intersect_chunk(std::span<const Ray> rays, std::span<Hit> hits, bool coherent) const override {
-        if (!coherent || !packets_ || tree_.nodes.empty()) return Accel::intersect_chunk(rays, hits, coherent);
+        if (!coherent || !packets_ || node_count_ == 0) return Accel::intersect_chunk(rays, hits, coherent);
         uint64_t in_packets = 0;
         for (size_t begin = 0; begin < rays.size(); begin += bvh8::kPacketSize) {
             const uint32_t count = uint32_t(std::min<size_t>(bvh8::kPacketSize, rays.size() - begin));
@@ -227,17 +242,35 @@ protected:
 private:
     /// Points the kernels' views at the trees and leaf storage this object holds.
     void set_contexts() {
-        ctx_ = {tree_.nodes.data(), blocks_.data(), ids_.data(), &prims_, &closest_leaf, &any_leaf};
-        sliver_ctx_ = {slivers_.tree.nodes.data(), slivers_.blocks.data(), nullptr, nullptr, nullptr, nullptr};
-        bvh8::set_plane_bounds(ctx_, tree_.nodes.data(), tree_.nodes.size());
+        ctx_ = {.nodes = qnodes_.empty() ? tree_.nodes.data() : nullptr,
+                .qnodes = qnodes_.empty() ? nullptr : qnodes_.data(),
+                .blocks = blocks_.data(),
+                .ids = ids_.data(),
+                .prims = &prims_,
+                .closest_leaf = &closest_leaf,
+                .any_leaf = &any_leaf};
+        sliver_ctx_ = {.nodes = slivers_.tree.nodes.data(), .blocks = slivers_.blocks.data()};
+        if (qnodes_.empty())
+            bvh8::set_plane_bounds(ctx_, tree_.nodes.data(), tree_.nodes.size());
+        else
+            bvh8::set_plane_bounds(ctx_, qnodes_.data(), qnodes_.size());
         bvh8::set_plane_bounds(sliver_ctx_, slivers_.tree.nodes.data(), slivers_.tree.nodes.size());
+    }
+
+    /// Counts the nodes and, for nodes=compressed, replaces them by their QNodes (the Nodes freed:
+    /// the point is the memory).
+    void adopt_layout(bool compressed) {
+        node_count_ = tree_.nodes.size();
+        if (!compressed || node_count_ == 0) return;
+        qnodes_ = bvh8::compress_nodes(tree_.nodes);
+        tree_.nodes = {};
     }
 
     /// Calls f(hits) with every hit of the ray (AllHitsFn's), in a buffer on the stack when they
     /// are few.
     template <class F>
     void every_hit(const Ray& ray, F&& f) const {
-        if (tree_.nodes.empty()) return;
+        if (node_count_ == 0) return;
         Hit few[64];
         const uint32_t n = kernels_->all_hits[kLeafKind](ctx_, ray, few, 64);
         if (n <= 64) return f(std::span<Hit>(few, n));
@@ -268,6 +301,8 @@ private:
     bool packets_ = true;
     mutable std::atomic<uint64_t> packet_rays_{0};  ///< stats()' "packet rays"
     bvh8::Tree tree_;
+    bvh8::QNodes qnodes_;         ///< nodes=compressed: the nodes rays see (tree_.nodes then empty)
+    size_t node_count_ = 0;
     bvh8::Blocks blocks_;         ///< leaf storage of block leaves (kBlocks)
     std::vector<uint32_t> ids_;   ///< leaf storage of callback leaves
     const bvh8::KernelTable* kernels_;

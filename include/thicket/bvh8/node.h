@@ -25,6 +25,23 @@ struct alignas(64) Node {
 };
 static_assert(sizeof(Node) == 256, "four cache lines per node, as Embree's BVH8");
 
+/// `bvh8:nodes=compressed`'s 96-byte node (two cache lines; Ylitie, Karras & Laine 2017, Embree's
+/// QBVH8): each child plane an 8-bit step count from the node's origin, decoded as
+/// plane = origin[a] + q[a][side][lane] * 2^exponent[a]. q * 2^e is exact (8 bits times a power of
+/// two), so the sum rounds once whether fused or not and every ISA decodes the same floats.
+/// Lower planes are rounded down and upper planes up (compress.h), so a decoded box contains the
+/// child's exact box: the kernels test decoded boxes as they test a Node's, hits are unchanged.
+struct alignas(32) QNode {
+    float origin[3];
+    int8_t exponent[3];           ///< -126..127: 2^e is a normal float
+    uint8_t valid;                ///< bit i set: lane i holds a child
+    uint8_t q[3][2][kWidth];      ///< [axis][0: lower, 1: upper][lane]
+    uint32_t child[kWidth];       ///< Node::child | Node::leaf_size << kQIndexBits
+};
+static_assert(sizeof(QNode) == 96, "two cache lines wherever a 32-byte aligned node starts");
+/// A QNode's child word: the index in the low bits, the leaf size (0: a node) in the high 8.
+inline constexpr uint32_t kQIndexBits = 24;
+
 /// Four triangles as structure-of-arrays: v[k][axis][lane] is vertex k of triangle `lane`.
 /// The vertices are stored, not v0 and two edges, because the kept hit must be bitwise the
 /// scalar Moller-Trumbore's, which computes e1 = v1 - v0 itself, and the plausibility filter
@@ -52,6 +69,8 @@ using AnyLeafFn = bool (*)(const void* prims, const uint32_t* ids, uint32_t coun
 /// the leaf storage and, for callback leaves, the primitive set.
 struct TraceContext {
     const Node* nodes = nullptr;
+    /// Set instead of nodes (null) for nodes=compressed: the same tree, quantized boxes.
+    const QNode* qnodes = nullptr;
     const Tri4* blocks = nullptr;
     const uint32_t* ids = nullptr;
     const void* prims = nullptr;

@@ -11,7 +11,9 @@ namespace thicket::bvh8 {
 
 /// The figures stats() reports, as plain data.
 struct StatsFigures {
-    const Tree* tree = nullptr;  ///< the tree rays traverse
+    const Tree* tree = nullptr;  ///< the tree rays traverse (its figures; nodes may be compressed away)
+    size_t node_count = 0;       ///< its 8-wide nodes
+    size_t node_bytes = 0;       ///< bytes per node: sizeof(Node), or sizeof(QNode) when compressed
     const char* isa = "";        ///< the kernels' level
     size_t primitives = 0;       ///< in the scene
     size_t references = 0;       ///< entries of the binary tree's leaves
