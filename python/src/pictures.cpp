@@ -261,11 +261,11 @@ py::array path_trace_array(const py::handle& target, uint32_t spp, int width, in
     // The per-pixel sums (3 doubles), the means and the array handed back.
     check_allocation(bytes_of(pixels, 3 * 8 + 12 + 12),
                      "path_trace: a " + std::to_string(width) + "x" + std::to_string(height) + " image");
-    RenderScene rs = make_render_scene(*scene);
     const std::optional<InputFile> file = scene_file(std::const_pointer_cast<Scene>(scene));
     TraceResult result;
     {
         py::gil_scoped_release nogil;
+        RenderScene rs = make_render_scene(*scene);
         // As the CLI: a JSON scene's materials, lights and camera.
         if (file && ends_with_json(file->path)) apply_json_render_settings(file->path, rs);
         rs.point_lights.insert(rs.point_lights.end(), lights.begin(), lights.end());

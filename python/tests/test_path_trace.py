@@ -86,6 +86,19 @@ def test_the_picture_is_thicket_render_integrator_path(tmp_path):
     assert (tmp_path / "ours.png").read_bytes() == (tmp_path / "cli.png").read_bytes()
 
 
+@pytest.mark.skipif(not CLI, reason="THICKET_CLI is not set (ctest sets it)")
+@pytest.mark.parametrize("integrator", ["path", "whitted"])
+def test_a_json_scene_brings_its_materials_lights_and_camera_as_in_the_cli(tmp_path, integrator):
+    # Glass, chrome, copper, an emitting sphere and a point light, seen from the file's camera.
+    json_scene = pathlib.Path(__file__).resolve().parents[2] / "examples" / "materials.json"
+    subprocess.run([CLI, "render", str(json_scene), "--integrator", integrator, "--spp", "2", "--seed", "3",
+                    "--size", "40x30", "-o", str(tmp_path / "cli.png")], check=True, capture_output=True)
+    image = thicket.path_trace(thicket.load_scene(json_scene), spp=2, seed=3, width=40, height=30,
+                               integrator=integrator)
+    thicket.save_png(tmp_path / "ours.png", image)
+    assert (tmp_path / "ours.png").read_bytes() == (tmp_path / "cli.png").read_bytes()
+
+
 def test_path_trace_arguments_are_checked(cornell, tmp_path):
     with pytest.raises(TypeError, match="must be a thicket.Scene or a thicket.Accel, got NoneType"):
         thicket.path_trace(None)
