@@ -42,10 +42,12 @@ def main(argv: list[str]) -> None:
     np.save(out / "depth.npy", depth)
     thicket.save_png(out / "depth.png", grey(depth), overwrite=True)
 
-    # %% Normals: unit vectors facing the camera, shown as 0.5 * n + 0.5.
+    # %% Normals: unit vectors facing the camera, shown as 0.5 * n + 0.5 (a miss, (0, 0, 0), black).
     normal = accel.render("normal", width, height)
     np.save(out / "normal.npy", normal)
-    thicket.save_png(out / "normal.png", np.round(255 * (0.5 * normal + 0.5)).astype(np.uint8), overwrite=True)
+    hit = np.isfinite(depth)
+    colour = np.where(hit[..., None], 0.5 * normal + 0.5, 0.0)
+    thicket.save_png(out / "normal.png", np.round(255 * colour).astype(np.uint8), overwrite=True)
 
     # %% Work: nodes each ray visited, as counts and on the CLI's colour ramp.
     nodes = accel.render("heatmap", width, height)
@@ -57,7 +59,6 @@ def main(argv: list[str]) -> None:
     np.save(out / "radiance.npy", radiance)
     thicket.save_png(out / "path.png", radiance, overwrite=True)
 
-    hit = np.isfinite(depth)
     print(f"{out}: depth.png normal.png heatmap.png path.png ({width}x{height}); "
           f"{hit.mean():.0%} of pixels hit, {nodes.mean():.1f} nodes per ray (at most {nodes.max()}), "
           f"mean radiance {radiance.mean():.3f} at {spp} spp")
