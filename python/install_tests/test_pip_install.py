@@ -23,6 +23,10 @@ USE = textwrap.dedent("""
     assert hits["t_hit"][0] == 2.0 and hits["primitive_ids"][0] == 0, hits
     rays = thicket.create_rays_pinhole(40.0, [0.25, 0.25, 0], [0.25, 0.25, 2], [0, 1, 0], 3, 3)
     assert abs(accel.cast_rays(rays)["t_hit"][1, 1] - 2.0) < 1e-6
+    # The pictures link the renderer and the bench's ray sets in too.
+    view = dict(eye=(0.25, 0.25, 2), center=(0.25, 0.25, 0))
+    assert accel.render("depth", 3, 3, **view)[1, 1] == 2.0 and thicket.rays(accel.scene, "primary", 3, 3, **view)["rays"].shape == (9, 6)
+    assert thicket.path_trace(accel, spp=1, width=3, height=3, **view).shape == (3, 3, 3)
     package = pathlib.Path(thicket.__file__).parent
     for f in ("py.typed", "__init__.pyi"):
         assert (package / f).is_file(), f + " was not installed"

@@ -11,6 +11,7 @@
 
 #include "arrays.h"
 #include "inputs.h"
+#include "pictures.h"
 #include "queries.h"
 #include "scenes.h"
 #include "thicket/accel/registry.h"
@@ -237,4 +238,6 @@ PYBIND11_MODULE(_thicket, m) {
         return batch_seconds(h, rows, query, thread_count(nthreads));
     }, "accel"_a, "rows"_a, "query"_a, "nthreads"_a = 0,
           "_batch_seconds(accel, rows, query, nthreads=0) -> float. For python/bench/module_bench.py: seconds of the C++ batch call alone (closest, any, count, closest_point)");
+
+    add_picture_functions(m);  // Accel.render among them: after Accel
 }

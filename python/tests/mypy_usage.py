@@ -35,4 +35,15 @@ def use_everything(tmp_dir: str) -> float:
     again: thicket.Accel = thicket.load(path, accel.scene)
     assert again.spec == accel.spec and again.stats()["primitives"] == 1 and accel.bounds == scene.bounds
     assert thicket.INVALID_ID == 4294967295 and issubclass(thicket.Error, RuntimeError)
+    # Rays and pictures.
+    primary = thicket.rays(scene, "primary", width=4, height=3, eye=(0.25, 0.25, 2), center=(0.25, 0.25, 0))
+    origins: npt.NDArray[np.float32] = primary["rays"][:, :3]
+    assert origins.shape == (12, 3) and primary["tmax"].shape == (12,) and not primary["any_hit"]
+    depth: npt.NDArray[np.float32] = accel.render("depth", 4, 3, eye=(0.25, 0.25, 2), center=(0.25, 0.25, 0))
+    normal: npt.NDArray[np.float32] = accel.render("normal", 4, 3, eye=(0.25, 0.25, 2), center=(0.25, 0.25, 0), vfov_deg=30)
+    work: npt.NDArray[np.uint32] = accel.render("heatmap", 4, 3, counter="prims")
+    colours: npt.NDArray[np.uint8] = thicket.heat_colours(work)
+    radiance: npt.NDArray[np.float32] = thicket.path_trace(accel, spp=1, width=4, height=3, lights=[((0, 0, 1), 1.0)])
+    thicket.save_png(tmp_dir + "/tri.png", radiance, exposure=2.0, overwrite=True)
+    assert depth.shape == (3, 4) and normal.shape == (3, 4, 3) and colours.shape == (3, 4, 3)
     return float(t[1, 1]) + float(d[0])

@@ -5,6 +5,10 @@
     accel = thicket.build(scene, "bvh8")              # any spec string: see thicket.accels()
     hits = accel.cast_rays(rays)                      # rays (..., 6) or (..., 8) float32
     rays = thicket.create_rays_pinhole(60.0, center, eye, up, 640, 480)  # (480, 640, 6), as Open3D's
+    depth = accel.render("depth", 640, 480)           # (480, 640) float32 hit distances, inf on a miss
+    image = thicket.path_trace(scene, spp=64)         # (480, 640, 3) float32 linear radiance
+    thicket.save_png("bunny.png", image)              # sRGB-encoded, as `thicket render` writes it
+    primary = thicket.rays(scene, "primary")          # the bench's ray sets, as `thicket rays`
 
 Queries are named and shaped as Open3D's RaycastingScene answers them (t_hit, primitive_ids,
 primitive_uvs, primitive_normals, ...); rays of 8 columns add a per-ray [tmin, tmax]. Tracing
@@ -24,10 +28,11 @@ MemoryError for one too big for memory, OSError for a file that cannot be read o
 malformed file, a saved structure of another scene).
 """
 
-from ._thicket import Accel, Error, Scene, accels, build, load, load_scene
+from ._thicket import Accel, Error, Scene, accels, build, heat_colours, load, load_scene, path_trace, rays, save_png
 from ._cameras import create_rays_pinhole
 
 INVALID_ID = 4294967295
 """primitive_ids and geometry_ids of a miss (Open3D's RaycastingScene.INVALID_ID)."""
 
-__all__ = ["Accel", "Error", "Scene", "accels", "build", "load", "load_scene", "create_rays_pinhole", "INVALID_ID"]
+__all__ = ["Accel", "Error", "Scene", "accels", "build", "load", "load_scene", "create_rays_pinhole", "rays",
+           "path_trace", "heat_colours", "save_png", "INVALID_ID"]

@@ -2,7 +2,7 @@
 # IDEs and mypy. python/tests/test_stub.py checks that its names are the module's, and the module's
 # its own. Arrays are numpy arrays; shapes are in the docstrings (numpy's types do not carry them).
 import os
-from typing import Any, Dict, List, Optional, Tuple, TypedDict, Union, overload
+from typing import Any, Dict, List, Literal, Optional, Sequence, Tuple, TypedDict, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -12,6 +12,8 @@ _Bounds = Tuple[Tuple[float, float, float], Tuple[float, float, float]]
 _Float32Array = npt.NDArray[np.float32]
 _UInt32Array = npt.NDArray[np.uint32]
 _Vector3 = Union[npt.ArrayLike, Any]  # 3 numbers: a list, a numpy array, an Open3D Tensor
+_Triple = Tuple[float, float, float]
+_Light = Tuple[_Vector3, Union[float, _Vector3]]  # (position, intensity in W/sr: one number or r, g, b)
 
 INVALID_ID: int
 """primitive_ids and geometry_ids of a miss (Open3D's RaycastingScene.INVALID_ID): 4294967295."""
@@ -40,6 +42,21 @@ class _ClosestPoints(TypedDict):
     primitive_ids: _UInt32Array          # (...)
     primitive_uvs: _Float32Array         # (..., 2)
     primitive_normals: _Float32Array     # (..., 3)
+
+class _RaySet(TypedDict, total=False):
+    rays: _Float32Array                  # (N, 6)      ox oy oz dx dy dz, unit directions
+    tmin: _Float32Array                  # (N,)        0
+    tmax: _Float32Array                  # (N,)        inf, or short of the light for shadow rays
+    pixel: _UInt32Array                  # (N,)        y * width + x; absent for the random set
+    set: str
+    any_hit: bool                        # True: trace with test_occlusions
+    width: int
+    height: int
+    eye: _Triple
+    center: _Triple
+    vfov_deg: float
+    light: _Triple
+    interior: bool
 
 class Scene:
     """Triangles and shapes that structures are built over."""
@@ -91,6 +108,22 @@ class Accel:
         """query_points float32 (..., 3) -> float32 (...), negative inside."""
     def compute_occupancy(self, query_points: _Float32Array, nthreads: int = 0, nsamples: int = 1) -> _Float32Array:
         """query_points float32 (..., 3) -> float32 (...), 1 inside and 0 outside."""
+    @overload
+    def render(self, view: Literal["normal"] = "normal", width: int = 640, height: int = 480,
+               eye: Optional[_Vector3] = None, center: Optional[_Vector3] = None, up: Optional[_Vector3] = None,
+               vfov_deg: Optional[float] = None, counter: None = None, nthreads: int = 0) -> _Float32Array:
+        """float32 (height, width, 3): unit normals faced to the camera, (0, 0, 0) on a miss."""
+    @overload
+    def render(self, view: Literal["depth"], width: int = 640, height: int = 480,
+               eye: Optional[_Vector3] = None, center: Optional[_Vector3] = None, up: Optional[_Vector3] = None,
+               vfov_deg: Optional[float] = None, counter: None = None, nthreads: int = 0) -> _Float32Array:
+        """float32 (height, width): hit distance, inf on a miss."""
+    @overload
+    def render(self, view: Literal["heatmap"], width: int = 640, height: int = 480,
+               eye: Optional[_Vector3] = None, center: Optional[_Vector3] = None, up: Optional[_Vector3] = None,
+               vfov_deg: Optional[float] = None, counter: Optional[Literal["nodes", "prims"]] = None,
+               nthreads: int = 0) -> _UInt32Array:
+        """uint32 (height, width): nodes visited (or primitives tested) per pixel's ray."""
 
 def load_scene(path: _Path) -> Scene:
     """A PLY, OBJ, glTF or JSON scene file, or a built-in name ('cornell', 'teapot-patches')."""
@@ -112,5 +145,23 @@ def create_rays_pinhole(fov_deg: float, center: _Vector3, eye: _Vector3, up: _Ve
 def create_rays_pinhole(intrinsic_matrix: Union[npt.ArrayLike, Any], extrinsic_matrix: Union[npt.ArrayLike, Any],
                         width_px: int, height_px: int) -> _Float32Array:
     """intrinsic (3, 3), extrinsic (4, 4) world to camera -> float32 (height_px, width_px, 6)."""
+
+def rays(scene: Scene, set: Literal["primary", "shadow", "diffuse", "random"] = "primary", width: int = 320,
+         height: int = 240, eye: Optional[_Vector3] = None, center: Optional[_Vector3] = None,
+         up: Optional[_Vector3] = None, vfov_deg: Optional[float] = None, nthreads: int = 0) -> _RaySet:
+    """The bench's ray set, as `thicket rays --set`: rays float32 (N, 6), tmin/tmax float32 (N,), ..."""
+
+def path_trace(scene: Union[Scene, Accel], spp: int = 16, width: int = 640, height: int = 480,
+               eye: Optional[_Vector3] = None, center: Optional[_Vector3] = None, up: Optional[_Vector3] = None,
+               vfov_deg: Optional[float] = None, seed: int = 0, max_depth: int = 64,
+               integrator: Literal["path", "whitted"] = "path", lights: Optional[Sequence[_Light]] = None,
+               nthreads: int = 0) -> _Float32Array:
+    """float32 (height, width, 3) linear radiance, as `thicket render --integrator path`."""
+
+def heat_colours(counts: npt.ArrayLike, heat_max: Optional[float] = None) -> npt.NDArray[np.uint8]:
+    """counts (...) -> uint8 (..., 3), the CLI's heatmap ramp."""
+
+def save_png(path: _Path, image: npt.ArrayLike, exposure: Optional[float] = None, overwrite: bool = False) -> None:
+    """uint8 (H, W, 3) or (H, W) as it is; float (H, W, 3) radiance sRGB-encoded."""
 
 __all__: List[str]
