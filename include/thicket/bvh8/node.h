@@ -103,6 +103,11 @@ using NodeTestFn = uint32_t (*)(const Node* nodes, uint32_t count, const Ray& ra
 /// (tests/unit/bvh8_fma_slab_test.cpp).
 using FastNodeTestFn = uint32_t (*)(const TraceContext& ctx, const Node* nodes, uint32_t count, const Ray& ray,
                                     float tmax, float* dist, uint32_t* any_mask, bool* fma);
+/// FastNodeTestFn on compressed nodes, as the traversal runs it: the planes decoded, then the
+/// FMA test (or the exact one) on them. It enters every lane the exact test of the decoded node
+/// enters, at an entry distance no greater (tests/unit/bvh8_fma_slab_test.cpp).
+using CompressedNodeTestFn = uint32_t (*)(const TraceContext& ctx, const QNode* nodes, uint32_t count,
+                                          const Ray& ray, float tmax, float* dist, uint32_t* any_mask, bool* fma);
 /// Moller-Trumbore on one block: mask of lanes hit within [ray.tmin, tmax], their t.
 using BlockTestFn = uint32_t (*)(const Tri4& block, const Ray& ray, float tmax, float* t);
 
@@ -135,6 +140,7 @@ struct KernelTable {
     AnyFn any[kLeafKinds][2];
     NodeTestFn node_test;
     FastNodeTestFn node_test_fast;
+    CompressedNodeTestFn node_test_compressed;
     BlockTestFn block_test;
     PacketClosestFn packet_closest[kLeafKinds];
     PointQueryFn closest_point;
