@@ -64,8 +64,9 @@ struct RectScene {
         for (uint32_t p = 0; p < mesh.triangle_count(); ++p) rs.prim_material.push_back(p / 2);
         accel = build_accel("bvh", scene);
     }
-    TraceResult render(Integrator integrator, uint32_t spp) const {
+    TraceResult render(Integrator integrator, uint32_t spp, LightStrategy strategy = LightStrategy::Mis) const {
         TraceOptions o;
+        o.strategy = strategy;
         o.width = o.height = size;
         o.spp = spp;
         o.seed = 9;
@@ -216,6 +217,9 @@ TEST(ClosedFormScenes, WhittedCastsTheExactHardShadowOfARectangle) {
     EXPECT_GE(counts[int(ShadowScene::Seen::Lit)], 150);
 }
 
+/// Every pixel of the path-traced ShadowScene `r` against the closed form's mean over the pixel.
+void expect_shadow_pixel_means(const ShadowScene& s, const TraceResult& r);
+
 TEST(ClosedFormScenes, PathTracerCastsTheSameShadowOnAverageOverEachPixel) {
     // Jittered samples converge to the closed form's mean over the pixel (32 x 32 midpoints here).
     // Nothing reflects light back: the occluder is black and a plane cannot see itself. Bound per
@@ -223,7 +227,16 @@ TEST(ClosedFormScenes, PathTracerCastsTheSameShadowOnAverageOverEachPixel) {
     // the pixel, 2/32 of its brightest point (the midpoint rule's error on a step); and the image
     // sum within 4 SE.
     const ShadowScene s;
-    const TraceResult r = s.render(Integrator::Path, 64 / kWorkScale);
+    for (const LightStrategy strategy : {LightStrategy::Mis, LightStrategy::LightOnly}) {
+        SCOPED_TRACE(strategy == LightStrategy::Mis ? "MIS" : "light sampling only");
+        expect_shadow_pixel_means(s, s.render(Integrator::Path, 64 / kWorkScale, strategy));
+    }
+    // BSDF sampling alone never finds a point light (integrator.h): every pixel black.
+    const TraceResult dark = s.render(Integrator::Path, 4, LightStrategy::BsdfOnly);
+    for (const Vec3& c : dark.radiance) ASSERT_EQ(c, Vec3{});
+}
+
+void expect_shadow_pixel_means(const ShadowScene& s, const TraceResult& r) {
     constexpr int g = 32;
     double got_sum = 0, want_sum = 0, var_sum = 0;
     int edge_pixels = 0;
