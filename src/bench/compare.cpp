@@ -83,7 +83,8 @@ Growth measure_growth(const std::string& spec, std::span<const Scene> sized, con
         double total = 0.0;
         while (int(times.size()) < options.max_builds && (times.empty() || total < options.repeat_budget_ms)) {
             // One thread: the growth exponent is the algorithm's, not the machine's parallelism.
-            const double ms = build_accel(spec, scene, 1)->build_ms();  // destroyed before the next build
+            const double ms = options.build ? options.build(spec, scene)
+                                            : build_accel(spec, scene, 1)->build_ms();  // destroyed before the next build
             times.push_back(ms);
             total += ms;
         }

@@ -131,6 +131,7 @@ RowTiming time_row(const Tracer& tracer, const Tracer* reference, const RaySet& 
             t.times = time_passes(options.reps, pass, after);
         }
         t.utilization = t.times.cpu_utilization(busy);
+        if (options.utilization) t.utilization = options.utilization(attempt, t.utilization);
         t.attempts = attempt;
         if (attempt == 1 || t.utilization > best.utilization) best = t;
         best.attempts = attempt;

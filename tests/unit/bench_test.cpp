@@ -5,14 +5,12 @@
 #include <nlohmann/json.hpp>
 #include <unistd.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "support/test_scenes.h"
@@ -492,42 +490,52 @@ TEST(BenchRunner, SlowTracersAreTimedOnASample) {
     EXPECT_NE(format_bench_tables(rows, TableStyle::Terminal).find(" 1/"), std::string::npos);
 }
 
-// A tracer that waits instead of computing, as if other work on the machine held the CPU.
-class SleepyTracer final : public Tracer {
-public:
-    std::string name() const override { return "sleepy"; }
-    bool parallel_build() const override { return false; }
-    double build(const Scene& scene, unsigned threads) override { return inner_->build(scene, threads); }
-    TracerFigures figures() const override { return inner_->figures(); }
-    void trace(std::span<const Ray> rays, std::span<Hit> hits, unsigned threads, bool coherent) const override {
-        std::this_thread::sleep_for(std::chrono::milliseconds(2));
-        inner_->trace(rays, hits, threads, coherent);
-    }
-    void occluded(std::span<const Ray> rays, std::span<uint8_t> out, unsigned threads) const override {
-        std::this_thread::sleep_for(std::chrono::milliseconds(2));
-        inner_->occluded(rays, out, threads);
-    }
-    bool count(std::span<const Ray>, bool, RayCounters&, unsigned) const override { return false; }
-
-private:
-    std::unique_ptr<Tracer> inner_ = make_accel_tracer("bvh");
-};
-
 TEST(BenchRunner, DisturbedPassesAreRetriedAndMarked) {
+    // The retry rule on scripted utilizations (no machine load needed): attempts judged at 0.5,
+    // 0.7 and 0.6 of the CPU are all disturbed, so every row takes the 3 attempts allowed and
+    // keeps the best, 0.7, and is marked.
     const std::vector<RaySet> sets = standard_sets(cornell(), 16, 16, 0);
     BenchOptions options;
     options.reps = 2;
     options.threads = 1;
-    const TracerFactory sleepy{"sleepy", [] { return std::make_unique<SleepyTracer>(); }};
-    const std::vector<BenchRow> rows = bench_scene(cornell(), "cornell", std::span(&sleepy, 1), sets, options);
+    std::vector<int> attempts_seen;
+    options.utilization = [&](int attempt, double measured) {
+        EXPECT_GE(measured, 0.0);
+        attempts_seen.push_back(attempt);
+        const double scripted[3] = {0.5, 0.7, 0.6};
+        return scripted[(attempt - 1) % 3];
+    };
+    const std::vector<TracerFactory> tracers{accel_tracer_factory("bvh")};
+    std::vector<BenchRow> rows = bench_scene(cornell(), "cornell", tracers, sets, options);
     ASSERT_EQ(rows.size(), 4u);
+    EXPECT_EQ(attempts_seen.size(), 4u * 3u);
     for (const BenchRow& r : rows) {
         EXPECT_EQ(r.attempts, options.max_attempts);
-        EXPECT_LT(r.cpu_util, kDisturbedUtilization);
-        EXPECT_FALSE(r.nodes_per_ray.has_value());  // this tracer cannot count
+        EXPECT_EQ(r.cpu_util, 0.7);
+        EXPECT_TRUE(r.nodes_per_ray.has_value());
     }
     EXPECT_NE(format_bench_tables(rows, TableStyle::Terminal).find(")!"), std::string::npos);
+    EXPECT_NE(format_bench_noise(rows).find("4 rows timed again"), std::string::npos);
     EXPECT_NE(format_bench_noise(rows).find("4 still disturbed"), std::string::npos);
+
+    // An attempt at 0.95 ends the retries: 2 attempts, the 0.95 kept, nothing marked.
+    attempts_seen.clear();
+    options.utilization = [&](int attempt, double) {
+        attempts_seen.push_back(attempt);
+        return attempt == 1 ? 0.5 : 0.95;
+    };
+    rows = bench_scene(cornell(), "cornell", tracers, sets, options);
+    EXPECT_EQ(attempts_seen.size(), 4u * 2u);
+    for (const BenchRow& r : rows) {
+        EXPECT_EQ(r.attempts, 2);
+        EXPECT_EQ(r.cpu_util, 0.95);
+    }
+    EXPECT_EQ(format_bench_tables(rows, TableStyle::Terminal).find(")!"), std::string::npos);
+    EXPECT_NE(format_bench_noise(rows).find("0 still disturbed"), std::string::npos);
+
+    // Undisturbed from the start: one attempt each.
+    options.utilization = [](int, double) { return 1.0; };
+    for (const BenchRow& r : bench_scene(cornell(), "cornell", tracers, sets, options)) EXPECT_EQ(r.attempts, 1);
 }
 
 TEST(BenchRunner, RoundsMergeIntoMediansWithTheRunToRunRange) {

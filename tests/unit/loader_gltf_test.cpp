@@ -1,8 +1,6 @@
 // glTF loader tests: embedded and external buffers, GLB, node transforms, corrupt files.
 #include <gtest/gtest.h>
 
-#include <chrono>
-
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -10,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "allocation_counter.h"
 #include "loader_test_util.h"
 #include "thicket/core/error.h"
 #include "thicket/render/bsdf.h"
@@ -265,11 +264,8 @@ TEST(LoaderGltf, ABufferUriThatIsADirectoryOrDeviceIsAnError) {
     }
 }
 
-// One node with N children sharing a mesh loaded in O(N^2) (an exact reserve per primitive):
-// 10^6 children took over a minute, 10^5 about 30 s. Linear loading takes well under a second.
-TEST(LoaderGltf, ManyNodesSharingAMeshLoadInLinearTime) {
-    TempDir tmp;
-    const size_t n = 100000;
+/// A glTF file of one node whose `n` children each place the same one-triangle mesh, at x = i.
+std::string nodes_sharing_a_mesh(size_t n) {
     std::string children, nodes;
     for (size_t i = 1; i <= n; ++i) {
         if (i > 1) children += ',';
@@ -277,24 +273,30 @@ TEST(LoaderGltf, ManyNodesSharingAMeshLoadInLinearTime) {
         nodes += ",{\"mesh\": 0, \"translation\": [" + std::to_string(i) + ", 0, 0]}";
     }
     const std::string b = gltf_buffer();
-    std::string json = R"({"asset": {"version": "2.0"}, "nodes": [{"children": [)" + children + "]}" + nodes +
-                       R"(], "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+    return R"({"asset": {"version": "2.0"}, "nodes": [{"children": [)" + children + "]}" + nodes +
+           R"(], "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
   "buffers": [{"uri": "data:application/octet-stream;base64,)" + base64(b) + R"(", "byteLength": )" +
-                       std::to_string(b.size()) + R"(}],
+           std::to_string(b.size()) + R"(}],
   "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}],
   "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"}]})";
-    const std::string p = tmp.file("many.gltf", json);
-    const auto start = std::chrono::steady_clock::now();
-    const TriangleMesh m = load_gltf(p);
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    ASSERT_EQ(m.triangle_count(), n);
-    EXPECT_EQ(m.vertex(n - 1, 1), Vec3(float(n) + 1, 0, 0));
-#ifdef THICKET_SANITIZED
-    const double limit = 30.0;  // the Release job holds the tight bound
-#else
-    const double limit = 10.0;  // linear: well under a second; quadratic: a minute
-#endif
-    EXPECT_LT(s, limit) << "10^5 children sharing a mesh: quadratic loading is back?";
+}
+
+// One node with N children sharing a mesh loaded in O(N^2) (an exact reserve per primitive):
+// 10^6 children took over a minute. Counted, not timed: eight times the children must allocate at
+// most 10 times the blocks and bytes (linear growth gives 8; the exact reserve per node, about 64).
+TEST(LoaderGltf, ManyNodesSharingAMeshLoadInLinearWork) {
+    TempDir tmp;
+    auto allocations_for = [&](size_t n) {
+        const std::string p = tmp.file("many.gltf", nodes_sharing_a_mesh(n));
+        TriangleMesh m;
+        const test::Allocations a = test::count_allocations([&] { m = load_gltf(p); });
+        EXPECT_EQ(m.triangle_count(), n);
+        EXPECT_EQ(m.vertex(n - 1, 1), Vec3(float(n) + 1, 0, 0));
+        return a;
+    };
+    const test::Allocations small = allocations_for(5000), large = allocations_for(40000);
+    EXPECT_LT(large.blocks, 10 * small.blocks) << "5,000 children: " << small.blocks << " blocks, 40,000: " << large.blocks;
+    EXPECT_LT(large.bytes, 10 * small.bytes) << "5,000 children: " << small.bytes << " bytes, 40,000: " << large.bytes;
 }
 
 }  // namespace

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <stdexcept>
@@ -363,19 +362,43 @@ TEST(Parallel, EveryIndexExactlyOnce) {
     parallel_for(0, 1, 4, [](size_t, size_t) { FAIL() << "no work for an empty range"; });
 }
 
+/// Sets `*flag` when the thread that owns it ends: after parallel_for's worker has recorded its
+/// exception and stopped the loop, since a worker's thread ends only when it leaves the loop.
+struct SignalOnThreadExit {
+    std::atomic<bool>* flag = nullptr;
+    ~SignalOnThreadExit() {
+        if (flag) flag->store(true, std::memory_order_release);
+    }
+};
+
 TEST(Parallel, WorkerExceptionsReachTheCaller) {
-    for (unsigned threads : {1u, 4u}) {
+    // Counted, not timed: the first chunk from index 17 on that a started thread takes throws;
+    // every other chunk from 17 on waits until that thread has ended, so by then the failure is
+    // recorded. Each of the other workers is then inside one waiting chunk at most and must start
+    // no more: at most 17 chunks below 17, the thrower's, and one per other worker.
+    constexpr size_t kChunks = 1000, kFirst = 17;
+    for (unsigned threads : {1u, 2u, 4u}) {
         std::atomic<int> chunks{0};
-        EXPECT_THROW(parallel_for(1000, 1, threads,
-                                  [&](size_t b, size_t) {
-                                      ++chunks;
-                                      if (b == 17) throw std::runtime_error("chunk 17");
-                                      // Real chunks take time; empty ones let the other workers
-                                      // finish all 1000 before the throw has unwound.
-                                      std::this_thread::sleep_for(std::chrono::microseconds(100));
-                                  }),
-                     std::runtime_error);
-        EXPECT_LT(chunks.load(), 1000) << "work should stop soon after a failure";
+        std::atomic<bool> thrower_chosen{false}, thrower_ended{false};
+        const std::thread::id caller = std::this_thread::get_id();
+        auto body = [&](size_t b, size_t) {
+            ++chunks;
+            if (b < kFirst) return;
+            // One thread: the loop runs on the caller, which can just throw.
+            if (threads == 1) throw std::runtime_error("chunk " + std::to_string(b));
+            bool expected = false;
+            if (std::this_thread::get_id() != caller && thrower_chosen.compare_exchange_strong(expected, true)) {
+                thread_local SignalOnThreadExit signal;
+                signal.flag = &thrower_ended;
+                throw std::runtime_error("chunk " + std::to_string(b));
+            }
+            while (!thrower_ended.load(std::memory_order_acquire)) std::this_thread::yield();
+        };
+        EXPECT_THROW(parallel_for(kChunks, 1, threads, body), std::runtime_error) << threads << " threads";
+        EXPECT_LE(chunks.load(), int(kFirst + threads)) << threads << " threads: work went on after a failure";
+        if (threads == 1) {
+            EXPECT_EQ(chunks.load(), int(kFirst + 1));
+        }
     }
 }
 

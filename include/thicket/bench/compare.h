@@ -52,6 +52,10 @@ struct GrowthOptions {
     /// so that a quadratic builder cannot hold the run for hours. 0: never stop.
     double build_budget_s = 60.0;
     double fit_min_size = double(kDefaultFitMinSize);  ///< the exponent is fitted over sizes >= this
+    /// One build of `spec` over a scene, returning its cost in ms; empty: a real single-threaded
+    /// build, timed. Tests give a counted cost here, so that the repeat, budget and fit rules are
+    /// checked exactly rather than on a clock.
+    std::function<double(const std::string& spec, const Scene& scene)> build;
 };
 
 struct GrowthPoint {

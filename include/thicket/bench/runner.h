@@ -29,6 +29,10 @@ struct BenchOptions {
     /// A row whose timed passes got less than kDisturbedUtilization of the CPU time is timed again,
     /// up to this many attempts in all; the attempt with the best utilization is kept.
     int max_attempts = 3;
+    /// The CPU utilization to judge attempt `attempt` (from 1) by, given the one measured; empty:
+    /// the measured one. Tests give a scripted sequence here, so that the retry rule is checked
+    /// without loading the machine.
+    std::function<double(int attempt, double measured)> utilization;
 };
 
 /// Progress reporting and messages; every member may be left empty.
