@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "thicket/accel/accel.h"
+#include "thicket/accel/refit.h"
 #include "thicket/bvh/build.h"
 #include "thicket/bvh8/blocks.h"
 #include "thicket/bvh8/build.h"
@@ -24,6 +25,7 @@
 #include "thicket/bvh8/closest_point.h"
 #include "thicket/bvh8/isa.h"
 #include "thicket/bvh8/packets.h"
+#include "thicket/bvh8/refit.h"
 #include "thicket/bvh8/slivers.h"
 #include "thicket/bvh8/stats.h"
 #include "thicket/core/huge_pages.h"
@@ -198,6 +200,28 @@ public:
     }
 
     void save(std::ostream& out) const override { bvh8::write_tree(out, tree_, blocks_, ids_); }
+
+    /// Accel::refit: new vertices into the blocks, every box and the plane bounds again
+    /// (src/bvh8/refit.cpp). Refused (Error, nothing changed) when a triangle crossed the
+    /// degenerate test, which only a rebuild handles.
+    void refit(const Scene& scene, unsigned threads) override {
+        Prims fresh = refit_primitives<Prims>(scene, primitives_, "bvh8");
+        if constexpr (kBlocks) {
+            bvh8::refit_blocks(tree_, blocks_, slivers_, fresh, threads);
+        } else {
+            bvh8::refit_tree(
+                tree_,
+                [&](uint32_t first, uint32_t size) {
+                    Aabb b;
+                    for (uint32_t k = first; k < first + size; ++k) b.grow(fresh.bounds(ids_[k]));
+                    return b;
+                },
+                [](uint32_t, uint32_t size) { return size; }, threads);
+            prims_ = std::move(fresh);
+        }
+        set_contexts();
+    }
+    bool refittable() const override { return true; }
 
     const bvh8::Tree& tree() const { return tree_; }
     const bvh8::KernelTable& kernels() const { return *kernels_; }
