@@ -224,6 +224,8 @@ public:
     bool refittable() const override { return true; }
 
     const bvh8::Tree& tree() const { return tree_; }
+    /// What the kernels read of the main tree, plane bounds included (refit's tests check them).
+    const bvh8::TraceContext& trace_context() const { return ctx_; }
     const bvh8::KernelTable& kernels() const { return *kernels_; }
     const bvh8::Blocks& blocks() const { return blocks_; }
     /// The degenerate triangles' blocks, searched by closest_point() only.
