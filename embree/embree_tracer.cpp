@@ -106,8 +106,11 @@ public:
         rtcCommitScene(warm_up);
         rtcReleaseScene(warm_up);
 
-        const RTCBuildQuality quality =
-            quality_ == EmbreeQuality::High ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM;
+        // Embree reads a geometry's own quality (REFIT) only in a scene of quality LOW, the
+        // two-level structure whose per-geometry BVHs can be refitted (rtcSetGeometryBuildQuality).
+        const RTCBuildQuality quality = quality_ == EmbreeQuality::High     ? RTC_BUILD_QUALITY_HIGH
+                                        : quality_ == EmbreeQuality::Medium ? RTC_BUILD_QUALITY_MEDIUM
+                                                                            : RTC_BUILD_QUALITY_LOW;
         const RTCBuildQuality geometry_quality = quality_ == EmbreeQuality::Refit ? RTC_BUILD_QUALITY_REFIT : quality;
         const int64_t before = log_->bytes.load();
         const auto start = std::chrono::steady_clock::now();
@@ -160,7 +163,7 @@ public:
         f.spec = std::string("embree ") + embree_version_of(device_) + " rtcIntersect1/rtcOccluded1, build quality " +
                  (quality_ == EmbreeQuality::High     ? "high"
                   : quality_ == EmbreeQuality::Medium ? "medium"
-                                                      : "medium, geometry refit");
+                                                      : "low (two-level), geometry refit");
         if (const std::string isa = embree_isa_for_env(); !isa.empty()) {
             f.spec += ", isa=";
             f.spec += isa;

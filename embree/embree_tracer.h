@@ -14,7 +14,8 @@
 
 namespace thicket {
 
-/// Refit: build quality medium with the mesh's geometry at RTC_BUILD_QUALITY_REFIT, so that
+/// Refit: scene build quality low (Embree's two-level structure, the only one that reads a
+/// geometry's own quality) with the mesh's geometry at RTC_BUILD_QUALITY_REFIT, so that
 /// Tracer::refit (new vertices through rtcUpdateGeometryBuffer, rtcCommitGeometry,
 /// rtcCommitScene) refits Embree's BVH instead of rebuilding it (`thicket bench --animate`).
 enum class EmbreeQuality { Medium, High, Refit };

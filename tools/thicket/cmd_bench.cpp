@@ -112,7 +112,7 @@ int run_animate(const BenchArgs& args) {
     if (!args.no_embree) {
         tracers.push_back(embree_tracer_factory(EmbreeQuality::Refit));
         embree_note = "embree-refit: Embree " + embree_version() +
-                      ", geometry at RTC_BUILD_QUALITY_REFIT, rebuilt at quality medium";
+                      ", scene quality low (two-level) with the geometry at RTC_BUILD_QUALITY_REFIT";
     }
 #else
     if (!args.no_embree) embree_note = "Embree left out: this thicket was built without it";
