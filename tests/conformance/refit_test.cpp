@@ -333,6 +333,30 @@ TEST(RefitRefusals, Bvh8RefusesATriangleBecomingDegenerate) {
     }
 }
 
+/// An empty scene refits to an empty structure; a scene of one triangle moved far away is found
+/// there and no longer where it was.
+TEST(RefitRefusals, EmptyAndSingleTriangleScenes) {
+    Scene one;
+    one.name = "one triangle";
+    TriangleMesh m;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    m.indices = {0, 1, 2};
+    one.add_mesh(m);
+    Scene moved = one;
+    moved.set_vertices(0, std::vector<Vec3>{{100, 0, 0}, {101, 0, 0}, {100, 1, 0}});
+    for (const std::string spec : {"bvh", "bvh8", "obb", "bvh8:quality=high"}) {
+        const std::unique_ptr<Accel> empty = build_accel(spec, Scene{});
+        EXPECT_NO_THROW(empty->refit(Scene{})) << spec;
+        EXPECT_TRUE(empty->bounds().empty()) << spec;
+        const std::unique_ptr<Accel> accel = build_accel(spec, one);
+        accel->refit(moved);
+        EXPECT_EQ(accel->intersect(Ray{{100.2f, 0.2f, 1}, 0.0f, {0, 0, -1}, kInfinity}).prim, 0u) << spec;
+        EXPECT_EQ(accel->intersect(Ray{{0.2f, 0.2f, 1}, 0.0f, {0, 0, -1}, kInfinity}).prim, kNoPrim) << spec;
+        EXPECT_FALSE(accel->occluded(Ray{{0.2f, 0.2f, 1}, 0.0f, {0, 0, -1}, kInfinity})) << spec;
+        EXPECT_EQ(accel->bounds().min.x, 100.0f) << spec;
+    }
+}
+
 /// Every other structure says it cannot refit, names itself and says to rebuild.
 TEST(RefitRefusals, OtherStructuresSayToRebuild) {
     const Scene base = generated_scene();
