@@ -128,7 +128,8 @@ public:
     /// with the same topology: the scene must be the one the structure was built over, with the
     /// same primitives in the same id order; only positions may differ. The tree keeps its shape
     /// and its boxes are recomputed, so queries answer exactly as brute force on the moved scene
-    /// but may be slower than after a rebuild (docs/refit.md: when to rebuild). Structures that
+    /// but may be slower than after a rebuild (README, "Moving vertices: refit": when to rebuild).
+    /// Not while queries run on the structure (as a rebuild would not be). Structures that
     /// cannot refit (refittable() false) throw Error naming the structure and saying to rebuild;
     /// a wrong primitive count is refused with Error. On Error the structure is unchanged.
     /// Runs on up to `threads` threads (0: all cores).
