@@ -106,15 +106,19 @@ public:
         rtcCommitScene(warm_up);
         rtcReleaseScene(warm_up);
 
-        const RTCBuildQuality quality =
-            quality_ == EmbreeQuality::High ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM;
+        // Embree reads a geometry's own quality (REFIT) only in a scene of quality LOW, the
+        // two-level structure whose per-geometry BVHs can be refitted (rtcSetGeometryBuildQuality).
+        const RTCBuildQuality quality = quality_ == EmbreeQuality::High     ? RTC_BUILD_QUALITY_HIGH
+                                        : quality_ == EmbreeQuality::Medium ? RTC_BUILD_QUALITY_MEDIUM
+                                                                            : RTC_BUILD_QUALITY_LOW;
+        const RTCBuildQuality geometry_quality = quality_ == EmbreeQuality::Refit ? RTC_BUILD_QUALITY_REFIT : quality;
         const int64_t before = log_->bytes.load();
         const auto start = std::chrono::steady_clock::now();
         scene_ = rtcNewScene(device_);
         rtcSetSceneBuildQuality(scene_, quality);
         if (primitives_ > 0) {
             RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-            rtcSetGeometryBuildQuality(geometry, quality);
+            rtcSetGeometryBuildQuality(geometry, geometry_quality);
             rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices_.data(), 0,
                                        3 * sizeof(float), mesh.positions.size());
             rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, indices_.data(), 0,
@@ -122,6 +126,7 @@ public:
             rtcCommitGeometry(geometry);
             rtcAttachGeometryByID(scene_, geometry, 0);
             rtcReleaseGeometry(geometry);  // the scene keeps it
+            geometry_ = geometry;          // valid as long as scene_ is
         }
         rtcCommitScene(scene_);
         const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -130,10 +135,35 @@ public:
         return ms;
     }
 
+    /// New vertices into the shared buffer, then Embree's refit (EmbreeQuality::Refit only).
+    double refit(const Scene& scene, unsigned) override {
+        if (quality_ != EmbreeQuality::Refit) return Tracer::refit(scene, 0);
+        get();
+        if (scene.mesh.triangle_count() != primitives_ || 3 * scene.mesh.positions.size() + 1 != vertices_.size())
+            throw Error(name() + " refit: " + scene.name + " has another topology than the build's");
+        const auto start = std::chrono::steady_clock::now();
+        const std::vector<Vec3>& p = scene.mesh.positions;
+        for (size_t i = 0; i < p.size(); ++i) {
+            vertices_[3 * i] = p[i].x;
+            vertices_[3 * i + 1] = p[i].y;
+            vertices_[3 * i + 2] = p[i].z;
+        }
+        if (geometry_) {
+            rtcUpdateGeometryBuffer(geometry_, RTC_BUFFER_TYPE_VERTEX, 0);
+            rtcCommitGeometry(geometry_);
+        }
+        rtcCommitScene(scene_);
+        const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        check();
+        return ms;
+    }
+
     TracerFigures figures() const override {
         TracerFigures f;
         f.spec = std::string("embree ") + embree_version_of(device_) + " rtcIntersect1/rtcOccluded1, build quality " +
-                 (quality_ == EmbreeQuality::High ? "high" : "medium");
+                 (quality_ == EmbreeQuality::High     ? "high"
+                  : quality_ == EmbreeQuality::Medium ? "medium"
+                                                      : "low (two-level), geometry refit");
         if (const std::string isa = embree_isa_for_env(); !isa.empty()) {
             f.spec += ", isa=";
             f.spec += isa;
@@ -225,12 +255,14 @@ private:
         if (device_) rtcReleaseDevice(device_);
         scene_ = nullptr;
         device_ = nullptr;
+        geometry_ = nullptr;
     }
 
     EmbreeQuality quality_;
     std::unique_ptr<DeviceLog> log_;
     RTCDevice device_ = nullptr;
     RTCScene scene_ = nullptr;
+    RTCGeometry geometry_ = nullptr;  ///< the mesh, owned by scene_ (refit updates its vertices)
     std::vector<float> vertices_;
     std::vector<uint32_t> indices_;
     size_t primitives_ = 0;
@@ -240,7 +272,12 @@ private:
 }  // namespace
 
 const char* embree_tracer_name(EmbreeQuality quality) {
-    return quality == EmbreeQuality::High ? "embree-high" : "embree-medium";
+    switch (quality) {
+    case EmbreeQuality::High: return "embree-high";
+    case EmbreeQuality::Medium: return "embree-medium";
+    case EmbreeQuality::Refit: return "embree-refit";
+    }
+    return "embree";
 }
 
 std::unique_ptr<Tracer> make_embree_tracer(EmbreeQuality quality) {

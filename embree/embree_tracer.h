@@ -14,9 +14,13 @@
 
 namespace thicket {
 
-enum class EmbreeQuality { Medium, High };
+/// Refit: scene build quality low (Embree's two-level structure, the only one that reads a
+/// geometry's own quality) with the mesh's geometry at RTC_BUILD_QUALITY_REFIT, so that
+/// Tracer::refit (new vertices through rtcUpdateGeometryBuffer, rtcCommitGeometry,
+/// rtcCommitScene) refits Embree's BVH instead of rebuilding it (`thicket bench --animate`).
+enum class EmbreeQuality { Medium, High, Refit };
 
-/// "embree-medium" or "embree-high".
+/// "embree-medium", "embree-high" or "embree-refit".
 const char* embree_tracer_name(EmbreeQuality quality);
 
 /// A tracer whose build() makes a fresh Embree device limited to the threads asked for (so the

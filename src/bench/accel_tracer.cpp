@@ -1,5 +1,6 @@
 // The Tracer adapter of Thicket's own structures: Accel's batch queries (one virtual call per
 // ray unless the structure traces packets of coherent rays).
+#include <chrono>
 #include <memory>
 #include <mutex>
 
@@ -28,6 +29,13 @@ public:
         accel_.reset();  // free the old structure before building the next
         accel_ = build_accel(spec_, scene, threads);
         return accel_->build_ms();
+    }
+
+    double refit(const Scene& scene, unsigned threads) override {
+        Accel& accel = get_mutable();
+        const auto start = std::chrono::steady_clock::now();
+        accel.refit(scene, threads);
+        return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     }
 
     TracerFigures figures() const override {
@@ -78,6 +86,10 @@ private:
         if (!accel_) throw Error("tracer '" + name_ + "' used before build()");
         return *accel_;
     }
+    Accel& get_mutable() {
+        if (!accel_) throw Error("tracer '" + name_ + "' used before build()");
+        return *accel_;
+    }
 
     std::string name_;
     AccelSpec spec_;
@@ -85,6 +97,10 @@ private:
 };
 
 }  // namespace
+
+double Tracer::refit(const Scene&, unsigned) {
+    throw Error("'" + name() + "' cannot refit: rebuild it instead");
+}
 
 std::unique_ptr<Tracer> make_accel_tracer(const std::string& spec) {
     return std::make_unique<AccelTracer>(spec, parse_accel_spec(spec));

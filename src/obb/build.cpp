@@ -54,9 +54,10 @@ struct Range {
     uint32_t first = 0, count = 0;
 };
 
-/// The points of the primitives in `r`, visited in order.
-template <class F>
-void for_points(const BvhData& bvh, const ObbPoints& pts, Range r, F&& f) {
+/// The points of the primitives in `r`, visited in order (Indexed: BvhData or ObbData, whose
+/// prim_indices the ranges index).
+template <class Indexed, class F>
+void for_points(const Indexed& bvh, const ObbPoints& pts, Range r, F&& f) {
     for (uint32_t i = r.first; i < r.first + r.count; ++i) {
         const uint32_t p = bvh.prim_indices[i];
         for (uint32_t k = pts.offsets[p]; k < pts.offsets[p + 1]; ++k) f(pts.points[k]);
@@ -64,7 +65,8 @@ void for_points(const BvhData& bvh, const ObbPoints& pts, Range r, F&& f) {
 }
 
 /// The box with the given orthonormal axes around the points of `r`, grown by `margin`.
-ObbNode fit_box(const BvhData& bvh, const ObbPoints& pts, Range r, const Vec3 axis[3], Vec3 origin, float margin) {
+template <class Indexed>
+ObbNode fit_box(const Indexed& bvh, const ObbPoints& pts, Range r, const Vec3 axis[3], Vec3 origin, float margin) {
     ObbNode node;
     for (int k = 0; k < 3; ++k) node.axis[k] = axis[k];
     Vec3 lo(kInfinity), hi(-kInfinity);
@@ -90,7 +92,8 @@ ObbNode fit_box(const BvhData& bvh, const ObbPoints& pts, Range r, const Vec3 ax
 
 /// The oriented box of the points of `r`: principal axes, unless the world axes (or the
 /// principal axes fail: flat or repeated points) give a box of less area.
-ObbNode fit_node(const BvhData& bvh, const ObbPoints& pts, Range r, ObbFit fit, float margin) {
+template <class Indexed>
+ObbNode fit_node(const Indexed& bvh, const ObbPoints& pts, Range r, ObbFit fit, float margin) {
     const Vec3 world[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
     double mean[3] = {0, 0, 0};
     size_t n = 0;
@@ -125,7 +128,55 @@ ObbNode fit_node(const BvhData& bvh, const ObbPoints& pts, Range r, ObbFit fit, 
     return obb_area(oriented) < obb_area(aligned) ? oriented : aligned;
 }
 
+/// Each node's primitive range: a subtree's primitives are contiguous in prim_indices, and
+/// children follow their parents, so a backward sweep has both children's before the parent's.
+std::vector<Range> subtree_ranges(const ObbData& obb) {
+    std::vector<Range> ranges(obb.nodes.size());
+    for (size_t n = obb.nodes.size(); n-- > 0;) {
+        const ObbNode& o = obb.nodes[n];
+        if (o.is_leaf()) {
+            ranges[n] = {o.leftFirst, o.count};
+        } else {
+            const Range a = ranges[o.leftFirst], b = ranges[o.leftFirst + 1];
+            ranges[n] = {std::min(a.first, b.first), a.count + b.count};
+        }
+    }
+    return ranges;
+}
+
+/// The mean of the points of `r`: the origin fit_box measures from.
+template <class Indexed>
+Vec3 mean_point(const Indexed& tree, const ObbPoints& pts, Range r) {
+    double mean[3] = {0, 0, 0};
+    size_t n = 0;
+    for_points(tree, pts, r, [&](Vec3 p) {
+        for (int k = 0; k < 3; ++k) mean[k] += p[k];
+        ++n;
+    });
+    for (double& m : mean) m /= double(std::max<size_t>(n, 1));
+    return {float(mean[0]), float(mean[1]), float(mean[2])};
+}
+
 }  // namespace
+
+void refit_obb(ObbData& obb, const ObbPoints& points, float scale, unsigned threads) {
+    if (obb.nodes.empty()) return;
+    if (points.offsets.size() != obb.prim_indices.size() + 1)
+        throw Error("OBB refit: " + std::to_string(points.offsets.size()) + " point offsets for " +
+                    std::to_string(obb.prim_indices.size()) + " primitives");
+    const std::vector<Range> ranges = subtree_ranges(obb);
+    const float margin = 4e-6f * scale;
+    // Every node is fitted to its own points, as the build does, so no box depends on another
+    // and the nodes go in parallel; the axes stay, only the centre and extents follow the points.
+    parallel_for(obb.nodes.size(), 64, threads, [&](size_t begin, size_t end) {
+        for (size_t n = begin; n < end; ++n) {
+            ObbNode& o = obb.nodes[n];
+            const ObbNode fitted = fit_box(obb, points, ranges[n], o.axis, mean_point(obb, points, ranges[n]), margin);
+            o.center = fitted.center;
+            o.half = fitted.half;
+        }
+    });
+}
 
 float obb_area(const ObbNode& node) {
     const Vec3 e = node.half * 2.0f;
@@ -150,7 +201,7 @@ ObbData build_obb(const BvhData& bvh, const ObbPoints& points, ObbFit fit, float
         }
     }
     obb.nodes.resize(source.size());
-    std::vector<Range> ranges(source.size());
+    std::vector<Range> ranges;
     uint32_t next_child = 1;
     for (size_t n = 0; n < source.size(); ++n) {
         const BvhNode& b = bvh.nodes[source[n]];
@@ -162,15 +213,7 @@ ObbData build_obb(const BvhData& bvh, const ObbPoints& points, ObbFit fit, float
             next_child += 2;
         }
     }
-    for (size_t n = source.size(); n-- > 0;) {
-        const ObbNode& o = obb.nodes[n];
-        if (o.is_leaf()) {
-            ranges[n] = {o.leftFirst, o.count};
-        } else {
-            const Range a = ranges[o.leftFirst], b = ranges[o.leftFirst + 1];
-            ranges[n] = {std::min(a.first, b.first), a.count + b.count};
-        }
-    }
+    ranges = subtree_ranges(obb);
     const float margin = 4e-6f * scale;
     parallel_for(obb.nodes.size(), 64, threads, [&](size_t begin, size_t end) {
         for (size_t n = begin; n < end; ++n) {

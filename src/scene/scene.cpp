@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <bit>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 
 #include "thicket/core/error.h"
@@ -110,7 +111,7 @@ void check_id_space(const Scene& s, size_t more) {
 /// that stands for one geometry over what is there becomes that geometry first.
 uint32_t open_geometry(Scene& s, size_t count) {
     const auto first = uint32_t(s.primitive_count());
-    if (s.geometries.empty() && first > 0) s.geometries.push_back({0, first});
+    if (s.geometries.empty() && first > 0) s.geometries.push_back({0, first, 0, uint32_t(s.mesh.positions.size())});
     s.geometries.push_back({first, uint32_t(count)});
     return uint32_t(s.geometries.size() - 1);
 }
@@ -123,7 +124,7 @@ size_t Scene::geometry_count() const {
 }
 
 Geometry Scene::geometry(uint32_t id) const {
-    if (geometries.empty()) return {0, uint32_t(primitive_count())};
+    if (geometries.empty()) return {0, uint32_t(primitive_count()), 0, uint32_t(mesh.positions.size())};
     return geometries.at(id);
 }
 
@@ -144,6 +145,8 @@ uint32_t Scene::add_mesh(const TriangleMesh& m) {
     const uint32_t id = open_geometry(*this, tris);
     const size_t old_tris = mesh.triangle_count();
     const auto base = uint32_t(mesh.positions.size());
+    geometries[id].vertex_first = base;
+    geometries[id].vertex_count = uint32_t(m.positions.size());
     mesh.positions.insert(mesh.positions.end(), m.positions.begin(), m.positions.end());
     // Not reserve(size + 3 * tris): an exact reserve per mesh reallocates everything for each of
     // N meshes (O(N^2)); insert's geometric growth keeps adding meshes linear.
@@ -169,6 +172,29 @@ uint32_t Scene::add_mesh(const TriangleMesh& m) {
     }
     push_run(runs, uint32_t(primitive_count() - tris), false, uint32_t(old_tris), uint32_t(tris));
     return id;
+}
+
+void Scene::set_vertices(uint32_t id, std::span<const Vec3> positions) {
+    const std::string where = "scene '" + name + "', geometry " + std::to_string(id);
+    if (id >= geometry_count())
+        throw Error(where + ": no such geometry (the scene has " + std::to_string(geometry_count()) + ")");
+    const Geometry g = geometry(id);
+    if (g.vertex_count == 0 && !positions.empty())
+        throw Error(where + " has no vertices to move (shapes, or no mesh)");
+    if (positions.size() != g.vertex_count)
+        throw Error(where + ": " + std::to_string(positions.size()) + " vertices given, the geometry has " +
+                    std::to_string(g.vertex_count) +
+                    " (moving vertices keeps the topology: add a new geometry instead)");
+    if (size_t(g.vertex_first) + g.vertex_count > mesh.positions.size())
+        throw Error(where + ": its vertex range is past the mesh's " + std::to_string(mesh.positions.size()) +
+                    " positions");
+    for (size_t i = 0; i < positions.size(); ++i) {
+        const Vec3& p = positions[i];
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+            throw Error(where + ": vertex " + std::to_string(i) + " is (" + std::to_string(p.x) + ", " +
+                        std::to_string(p.y) + ", " + std::to_string(p.z) + "), not finite");
+    }
+    std::copy(positions.begin(), positions.end(), mesh.positions.begin() + g.vertex_first);
 }
 
 uint32_t Scene::add_shape(const Shape& s) { return add_shapes({&s, 1}); }

@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "bench_commands.h"
+#include "thicket/bench/animate.h"
 #include "thicket/bench/bench_json.h"
 #include "thicket/bench/bench_tables.h"
 #include "thicket/bench/runner.h"
@@ -42,6 +43,10 @@ struct BenchArgs {
     bool force = false;
     bool markdown = false;
     bool no_embree = false;
+    int animate = 0;  // frames; 0: the standard bench
+    std::string motion = "bend";
+    bool motion_given = false;
+    bool reps_given = false;
 };
 
 // A tracer of every spec asked for (parse_accel_specs(): `all` expanded, duplicates dropped,
@@ -80,7 +85,66 @@ RaySet file_ray_set(const std::string& path, bool any_hit, unsigned threads) {
     return set;  // not marked coherent: nothing is known of their order
 }
 
+/// `--animate FRAMES`: refit against rebuild, frame by frame (bench/animate.h).
+int run_animate(const BenchArgs& args) {
+    AnimateOptions options;
+    options.frames = args.animate;
+    options.motion = parse_animate_motion(args.motion);
+    options.reps = args.reps_given ? args.reps : 3;
+    options.threads = args.threads;
+    if (options.reps < 1 || options.reps > kMaxReps)
+        throw Error("--reps " + std::to_string(options.reps) + ": must be between 1 and " + std::to_string(kMaxReps));
+    const std::pair<const char*, bool> others[] = {{"--rays", !args.ray_files.empty()},
+                                                   {"--any-rays", !args.any_ray_files.empty()},
+                                                   {"--json", !args.json.empty()},
+                                                   {"--rounds", args.rounds != 1},
+                                                   {"--markdown", args.markdown}};
+    for (const auto& [option, given] : others)
+        if (given) throw Error(std::string(option) + " does not go with --animate (it measures the standard bench)");
+    options.sets = parse_ray_set_list(args.sets_given ? args.sets : std::string("primary"));
+    parse_ray_set_size(args.size, options.rays);
+    if (!args.camera.empty()) options.rays.camera = parse_camera(args.camera);
+    const std::vector<AskedSpec> specs =
+        parse_accel_specs(args.accels.empty() ? std::vector<std::string>{"bvh8"} : args.accels);
+    std::vector<TracerFactory> tracers = thicket_tracers(specs);
+    std::string embree_note = "Embree left out (--no-embree)";
+#if THICKET_HAVE_EMBREE
+    if (!args.no_embree) {
+        tracers.push_back(embree_tracer_factory(EmbreeQuality::Refit));
+        embree_note = "embree-refit: Embree " + embree_version() +
+                      ", scene quality low (two-level) with the geometry at RTC_BUILD_QUALITY_REFIT";
+    }
+#else
+    if (!args.no_embree) embree_note = "Embree left out: this thicket was built without it";
+#endif
+    print_machine("before");
+    std::printf("embree  %s\n", embree_note.c_str());
+    for (const std::string& path : args.scenes) {
+        const Scene rest = load_scene_verbose(path);
+        std::vector<TracerFactory> scene_tracers = tracers;
+        if (rest.has_shapes())
+            std::erase_if(scene_tracers, [](const TracerFactory& t) { return t.name == "embree-refit"; });
+        std::printf("animate %s: %d frames, motion %s, sets %s, %s, median of %d timed refits, builds and "
+                    "passes per frame\n",
+                    scene_label(path).c_str(), options.frames, animate_motion_name(options.motion),
+                    (args.sets_given ? args.sets : std::string("primary")).c_str(), args.size.c_str(), options.reps);
+        std::printf("%s\n", animate_header().c_str());
+        std::fflush(stdout);
+        const std::vector<AnimateRow> rows = animate_scene(rest, scene_tracers, options, [](const AnimateRow& r) {
+            std::printf("%s\n", format_animate_row(r).c_str());
+            std::fflush(stdout);
+        });
+        std::printf("%s", format_animate_summary(rows).c_str());
+    }
+    std::printf("advice  rebuild instead of refitting once 'SAH x' passes about 1.3 or 'Mr/s x' falls below "
+                "about 0.8 (README.md, \"Moving vertices: refit\")\n");
+    print_machine("after");
+    return 0;
+}
+
 int run_bench(const BenchArgs& args) {
+    if (args.animate != 0) return run_animate(args);
+    if (args.motion_given) throw Error("--motion goes with --animate (the motion of an animated sequence)");
     // Check every option before the slow work, so a typo costs nothing.
     const bool own_rays = !args.ray_files.empty() || !args.any_ray_files.empty();
     if (own_rays && args.scenes.size() > 1)
@@ -245,9 +309,22 @@ Command add_bench_command(CLI::App& app) {
     cmd->add_option("-c,--camera", args->camera,
                     "camera for every scene: position and target (and vertical fov in degrees, default 45); up is +y")
         ->type_name("px,py,pz,tx,ty,tz[,fov]");
-    cmd->add_option("--reps", args->reps, "timed passes per figure, after one warm-up pass (1..1000)")
+    cmd->add_option("--reps", args->reps, "timed passes per figure, after one warm-up pass (1..1000; --animate: 3)")
         ->default_str("5")
-        ->type_name("N");
+        ->type_name("N")
+        ->each([args](const std::string&) { args->reps_given = true; });
+    cmd->add_option("--animate", args->animate,
+                    "instead of the standard bench: move each SCENE's vertices over FRAMES frames (--motion) and "
+                    "per frame print each structure's refit time against a rebuild's, SAH cost and Mrays/s after "
+                    "refit against a rebuild's, and agreement; with Embree's refit (embree-refit) beside them. "
+                    "Default structure bvh8; only refittable ones (bvh, bvh8, obb); sets default primary")
+        ->type_name("FRAMES");
+    cmd->add_option("--motion", args->motion,
+                    "with --animate: bend (turned about the vertical axis, up to a quarter turn at the ends) or "
+                    "explode (scaled up to 2x from the centre, vertices jittered by up to 5% of the size)")
+        ->default_str("bend")
+        ->type_name("bend|explode")
+        ->each([args](const std::string&) { args->motion_given = true; });
     cmd->add_option("--rounds", args->rounds,
                     "repeat each scene's whole measurement N times and report the median round, with the "
                     "slowest and fastest round as the range: the honest spread on a shared machine")

@@ -21,6 +21,8 @@
 
 namespace thicket {
 
+struct Scene;
+
 /// The AccelStats::extra key under which a structure that leaves sah_cost at 0 (undefined) says
 /// why; the conformance suite requires it whenever sah_cost is 0 for a scene with primitives.
 inline constexpr const char* kSahUndefinedKey = "SAH cost undefined";
@@ -121,6 +123,19 @@ public:
     /// Writes the structure's payload (save_accel() adds the checked header); throws Error if
     /// the structure cannot be saved.
     virtual void save(std::ostream& out) const;
+
+    /// Brings the structure up to date with `scene` after its vertices moved (Scene::set_vertices)
+    /// with the same topology: the scene must be the one the structure was built over, with the
+    /// same primitives in the same id order; only positions may differ. The tree keeps its shape
+    /// and its boxes are recomputed, so queries answer exactly as brute force on the moved scene
+    /// but may be slower than after a rebuild (README, "Moving vertices: refit": when to rebuild).
+    /// Not while queries run on the structure (as a rebuild would not be). Structures that
+    /// cannot refit (refittable() false) throw Error naming the structure and saying to rebuild;
+    /// a wrong primitive count is refused with Error. On Error the structure is unchanged.
+    /// Runs on up to `threads` threads (0: all cores).
+    virtual void refit(const Scene& scene, unsigned threads = 0);
+    /// Whether refit() is supported by this structure (bvh, bvh8, obb).
+    virtual bool refittable() const { return false; }
 
     /// Canonical spec string and build time, set by build_accel()/load_accel().
     const std::string& spec() const { return spec_; }

@@ -60,6 +60,10 @@ public:
     /// Untimed counting pass: adds the nodes visited and primitives tested for every ray to
     /// `total`. Returns false, leaving `total` alone, when the tracer cannot count.
     virtual bool count(std::span<const Ray> rays, bool any_hit, RayCounters& total, unsigned threads) const = 0;
+    /// Brings the current build up to date with `scene`, the scene it was built over with its
+    /// vertices moved (Accel::refit), on up to `threads` threads; returns the wall time in
+    /// milliseconds. The default throws Error: the tracer cannot refit (rebuild it instead).
+    virtual double refit(const Scene& scene, unsigned threads);
 };
 
 /// A tracer to be made when its turn comes, so only one built structure lives at a time.

@@ -4,8 +4,10 @@
 #include <vector>
 
 #include "thicket/accel/accel.h"
+#include "thicket/accel/refit.h"
 #include "thicket/bvh/build.h"
 #include "thicket/bvh/closest_point.h"
+#include "thicket/bvh/refit.h"
 #include "thicket/bvh/traversal.h"
 
 namespace thicket {
@@ -67,6 +69,14 @@ public:
     }
 
     void save(std::ostream& out) const override { write_bvh(out, data_); }
+
+    /// Accel::refit: the scene's primitives again, every box recomputed (src/bvh/refit.cpp).
+    void refit(const Scene& scene, unsigned threads) override {
+        Prims fresh = refit_primitives<Prims>(scene, prims_.size(), "bvh");
+        refit_bvh(data_, refit_boxes(fresh, threads));
+        prims_ = std::move(fresh);
+    }
+    bool refittable() const override { return true; }
 
     const BvhData& data() const { return data_; }
     const Prims& primitives() const { return prims_; }

@@ -1,8 +1,8 @@
 #pragma once
 /// Building the 8-wide tree: a binary BVH from any `bvh` builder, collapsed into 8-wide nodes
-/// whose leaves some leaf storage (blocks.h, or primitive ids) places. A refit (new vertices, the
-/// same topology) would sit next to this: its own file, a backward pass over Tree::nodes (children
-/// come after their parents) recomputing each lane's box (docs/bvh8.md, "Files").
+/// whose leaves some leaf storage (blocks.h, or primitive ids) places. Refit (new vertices, the
+/// same topology) sits next to this: refit.h, a backward pass over Tree::nodes (children come
+/// after their parents) recomputing each lane's box (docs/bvh8.md, "Files").
 #include <cstdint>
 #include <functional>
 #include <vector>

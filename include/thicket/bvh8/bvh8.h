@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "thicket/accel/accel.h"
+#include "thicket/accel/refit.h"
 #include "thicket/bvh/build.h"
 #include "thicket/bvh8/blocks.h"
 #include "thicket/bvh8/build.h"
@@ -25,6 +26,7 @@
 #include "thicket/bvh8/closest_point.h"
 #include "thicket/bvh8/isa.h"
 #include "thicket/bvh8/packets.h"
+#include "thicket/bvh8/refit.h"
 #include "thicket/bvh8/slivers.h"
 #include "thicket/bvh8/stats.h"
 #include "thicket/core/huge_pages.h"
@@ -212,9 +214,42 @@ public:
         bvh8::write_tree(out, decoded, blocks_, ids_);
     }
 
+    /// Accel::refit: new vertices into the blocks, every box and the plane bounds again
+    /// (src/bvh8/refit.cpp). Refused (Error, nothing changed) when a triangle crossed the
+    /// degenerate test, which only a rebuild handles. Compressed nodes are decoded for the refit
+    /// (their topology) and quantized again from the refitted boxes.
+    void refit(const Scene& scene, unsigned threads) override {
+        Prims fresh = refit_primitives<Prims>(scene, primitives_, "bvh8");
+        const bool compressed = !qnodes_.empty();
+        if (compressed) bvh8::decode_nodes(qnodes_, tree_.nodes);
+        try {
+            if constexpr (kBlocks) {
+                bvh8::refit_blocks(tree_, blocks_, slivers_, fresh, threads);
+            } else {
+                bvh8::refit_tree(
+                    tree_,
+                    [&](uint32_t first, uint32_t size) {
+                        Aabb b;
+                        for (uint32_t k = first; k < first + size; ++k) b.grow(fresh.bounds(ids_[k]));
+                        return b;
+                    },
+                    [](uint32_t, uint32_t size) { return size; }, threads);
+                prims_ = std::move(fresh);
+            }
+        } catch (...) {
+            if (compressed) tree_.nodes = {};  // the QNodes stand, unchanged
+            throw;
+        }
+        adopt_layout(compressed);
+        set_contexts();
+    }
+    bool refittable() const override { return true; }
+
     /// The tree's figures; its nodes are empty when they are compressed (qnodes()).
     const bvh8::Tree& tree() const { return tree_; }
     const bvh8::QNodes& qnodes() const { return qnodes_; }
+    /// What the kernels read of the main tree, plane bounds included (refit's tests check them).
+    const bvh8::TraceContext& trace_context() const { return ctx_; }
     const bvh8::KernelTable& kernels() const { return *kernels_; }
     const bvh8::Blocks& blocks() const { return blocks_; }
     /// The degenerate triangles' blocks, searched by closest_point() only.

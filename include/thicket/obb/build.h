@@ -32,6 +32,11 @@ struct ObbPoints {
 /// change of frame can never cull a hit. Fits nodes on up to `threads` threads (0: every core).
 ObbData build_obb(const BvhData& bvh, const ObbPoints& points, ObbFit fit, float scale, unsigned threads);
 
+/// After the primitives moved (same topology, `points` as build_obb takes them, `scale` the moved
+/// scene's): every node keeps its axes and gets the centre and extents that enclose its points
+/// again, with the build's margins. On up to `threads` threads (0: every core).
+void refit_obb(ObbData& obb, const ObbPoints& points, float scale, unsigned threads);
+
 /// Half the surface area of a node's box (the sum of the products of its full extents' pairs),
 /// the measure Aabb::half_area() gives an axis-aligned box.
 float obb_area(const ObbNode& node);

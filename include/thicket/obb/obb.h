@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "thicket/accel/accel.h"
+#include "thicket/accel/refit.h"
 #include "thicket/bvh/build.h"
 #include "thicket/obb/build.h"
 #include "thicket/obb/traversal.h"
@@ -79,6 +80,13 @@ public:
     AccelStats stats() const override;
 
     void save(std::ostream& out) const override { write_obb(out, data_); }
+
+    /// Accel::refit: the scene's primitives again, each node's box refitted along its own axes.
+    void refit(const Scene& scene, unsigned threads) override {
+        prims_ = refit_primitives<Prims>(scene, prims_.size(), "obb");
+        refit_obb(data_, obb_points(prims_), scene_scale(), threads);
+    }
+    bool refittable() const override { return true; }
 
     const ObbData& data() const { return data_; }
 

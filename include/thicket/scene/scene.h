@@ -22,10 +22,14 @@
 namespace thicket {
 
 /// The primitive ids [first, first + count) that one add_* call appended; its index in
-/// Scene::geometries is its id.
+/// Scene::geometries is its id. A mesh geometry also owns the vertices
+/// mesh.positions[vertex_first, vertex_first + vertex_count) (what Scene::set_vertices moves);
+/// a shape geometry owns none.
 struct Geometry {
     uint32_t first = 0;
     uint32_t count = 0;
+    uint32_t vertex_first = 0;
+    uint32_t vertex_count = 0;
 };
 
 struct Scene {
@@ -68,6 +72,13 @@ struct Scene {
     size_t geometry_count() const;
     /// The id range of geometry `id` (< geometry_count()).
     Geometry geometry(uint32_t id) const;
+    /// Moves the vertices of mesh geometry `id` (same topology: its triangles keep their indices)
+    /// to `positions`, one per vertex the geometry owns (Geometry::vertex_count), in the order it
+    /// was added. Structures built before see the move after Accel::refit(scene) (or a rebuild).
+    /// Throws Error naming the scene and the geometry, leaving the scene unchanged, for an id out
+    /// of range, a geometry without vertices (shapes), a wrong count or a non-finite coordinate.
+    void set_vertices(uint32_t id, std::span<const Vec3> positions);
+
     /// Id of the geometry that holds primitive `prim`; kNoPrim for prim >= primitive_count()
     /// (a miss stays a miss).
     uint32_t geometry_of(uint32_t prim) const;

@@ -1,0 +1,43 @@
+// Refit of the binary BVH: a backward sweep over the nodes the root reaches (children always
+// follow their parent in the pool, validate_bvh), so each child's box is ready before its parent's.
+#include "thicket/bvh/refit.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace thicket {
+
+void refit_bvh(BvhData& bvh, std::span<const Aabb> prim_bounds) {
+    if (bvh.nodes_used == 0) return;
+    // Only reachable nodes: the pool may hold unused slots (slot 1, optimizer leftovers) whose
+    // fields are not a valid node.
+    std::vector<uint32_t> order{0};
+    for (size_t k = 0; k < order.size(); ++k) {
+        const BvhNode& node = bvh.nodes[order[k]];
+        if (!node.is_leaf()) {
+            order.push_back(node.leftFirst);
+            order.push_back(node.leftFirst + 1);
+        }
+    }
+    for (size_t k = order.size(); k-- > 0;) {
+        BvhNode& node = bvh.nodes[order[k]];
+        Aabb box;
+        if (node.is_leaf()) {
+            for (uint32_t e = node.leftFirst; e < node.leftFirst + node.count; ++e)
+                box.grow(prim_bounds[bvh.prim_indices[e]]);
+        } else {
+            const Aabb left = bvh.nodes[node.leftFirst].bounds(), right = bvh.nodes[node.leftFirst + 1].bounds();
+            box.grow(left);
+            box.grow(right);
+            // The ordered-centroid traversal's hint, recomputed as the build does (compute_child_order).
+            const Vec3 cl = left.center(), cr = right.center();
+            const int axis = max_axis(abs(cr - cl));
+            uint8_t& order_byte = bvh.child_order[order[k]];
+            order_byte = ChildOrder::pack(ChildOrder::split_axis(order_byte), axis, cl[axis] > cr[axis]);
+        }
+        node.aabbMin = box.min;
+        node.aabbMax = box.max;
+    }
+}
+
+}  // namespace thicket

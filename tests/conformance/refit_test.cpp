@@ -1,0 +1,424 @@
+// Refit (Accel::refit after Scene::set_vertices) against brute force on the moved scene: every
+// refittable structure (bvh, bvh8 under every ISA this CPU runs, spatial splits included, obb)
+// is built on a scene, the scene's vertices are moved (bent, exploded, moved and scaled far
+// away), the structure is refitted, and its closest hits and occlusion must follow the
+// conformance suite's agreement rule against brute force on the moved scene, and equal a
+// rebuild's. Then the refusals: wrong vertex counts, non-refittable structures, a topology
+// change, a bvh8 triangle crossing the degenerate test.
+#include <gtest/gtest.h>
+
+#include <cctype>
+#include <cmath>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "support/reference.h"
+#include "support/test_scenes.h"
+#include "thicket/accel/registry.h"
+#include "thicket/bvh8/bvh8.h"
+#include "thicket/bvh8/isa.h"
+#include "thicket/core/error.h"
+
+namespace thicket::testing {
+namespace {
+
+#ifdef THICKET_SANITIZED
+constexpr size_t kRays = 300;
+#else
+constexpr size_t kRays = 1500;
+#endif
+
+/// A closed UV sphere of radius 1 at the origin beside a wavy sheet: shared vertices (so moving
+/// one moves several triangles), both curved and flat parts. One geometry.
+Scene generated_scene() {
+    TriangleMesh m;
+    const int rings = 24, segments = 48;
+    for (int r = 0; r <= rings; ++r)
+        for (int s = 0; s < segments; ++s) {
+            const float theta = float(M_PI) * float(r) / float(rings);
+            const float phi = 2.0f * float(M_PI) * float(s) / float(segments);
+            m.positions.push_back({std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi)});
+        }
+    auto at = [&](int r, int s) { return uint32_t(r * segments + (s % segments)); };
+    for (int r = 0; r < rings; ++r)
+        for (int s = 0; s < segments; ++s) {
+            // The poles' rows collapse to a point: only the non-degenerate half of those quads.
+            if (r != 0) m.indices.insert(m.indices.end(), {at(r, s), at(r + 1, s), at(r, s + 1)});
+            if (r != rings - 1) m.indices.insert(m.indices.end(), {at(r, s + 1), at(r + 1, s), at(r + 1, s + 1)});
+        }
+    const auto base = uint32_t(m.positions.size());
+    const int n = 30;
+    for (int i = 0; i <= n; ++i)
+        for (int j = 0; j <= n; ++j) {
+            const float x = 1.5f + 3.0f * float(i) / n, z = -1.5f + 3.0f * float(j) / n;
+            m.positions.push_back({x, 0.2f * std::sin(3.0f * x) * std::cos(2.0f * z), z});
+        }
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            const uint32_t a = base + uint32_t(i * (n + 1) + j), b = a + 1, c = a + uint32_t(n + 1), d = c + 1;
+            m.indices.insert(m.indices.end(), {a, c, b, b, c, d});
+        }
+    Scene scene;
+    scene.name = "sphere-and-sheet";
+    scene.add_mesh(m);
+    return scene;
+}
+
+/// How vertices move: each a function of the vertex and its index.
+enum class Motion { Bend, Explode, FarAndLarge, Grow };
+const char* motion_name(Motion m) {
+    switch (m) {
+    case Motion::Bend: return "bend";
+    case Motion::Explode: return "explode";
+    case Motion::FarAndLarge: return "far-and-large";
+    case Motion::Grow: return "grow";
+    }
+    return "?";
+}
+
+/// `positions` moved by `motion` within a scene of bounds `box`.
+std::vector<Vec3> moved(const std::vector<Vec3>& positions, const Aabb& box, Motion motion) {
+    const Vec3 c = box.center();
+    const float size = max_component(box.extent());
+    std::vector<Vec3> out(positions.size());
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+    for (size_t i = 0; i < positions.size(); ++i) {
+        const Vec3 p = positions[i] - c;
+        switch (motion) {
+        case Motion::Bend: {
+            // Around the y axis by an angle growing along x: the far end turns most.
+            const float angle = 1.2f * p.x / size;
+            out[i] = c + Vec3(p.x * std::cos(angle) - p.z * std::sin(angle), p.y + 0.3f * p.x * p.x / size,
+                              p.x * std::sin(angle) + p.z * std::cos(angle));
+            break;
+        }
+        case Motion::Explode:
+            // Outward by half the scene and a random jitter of a tenth: triangles stretch, boxes
+            // overlap, the worst case for a kept topology.
+            out[i] = c + p * 1.5f + Vec3(unit(rng), unit(rng), unit(rng)) * (0.1f * size);
+            break;
+        case Motion::FarAndLarge:
+            out[i] = Vec3(1.0e4f, -3.0e3f, 7.0e2f) + p * 40.0f;
+            break;
+        case Motion::Grow:
+            // A thousand times larger where it stands: rays now start far inside planes the
+            // build's bounds never reached (bvh8's FMA slab test must see the new plane bounds).
+            out[i] = c + p * 1000.0f;
+            break;
+        }
+    }
+    return out;
+}
+
+/// `scene` with every mesh geometry's vertices moved.
+Scene moved_scene(const Scene& scene, Motion motion) {
+    Scene s = scene;
+    for (uint32_t id = 0; id < s.geometry_count(); ++id) {
+        const Geometry g = s.geometry(id);
+        if (g.vertex_count == 0) continue;
+        const std::vector<Vec3> old(s.mesh.positions.begin() + g.vertex_first,
+                                    s.mesh.positions.begin() + g.vertex_first + g.vertex_count);
+        s.set_vertices(id, moved(old, scene.bounds(), motion));
+    }
+    s.name = scene.name + "+" + motion_name(motion);
+    return s;
+}
+
+std::string isect_of(const std::string& spec) {
+    return spec.find("isect=watertight") != std::string::npos ? "watertight" : "moller";
+}
+
+/// Every refittable variant: bvh's builders (spatial splits included), bvh8 under each ISA of this
+/// CPU with both triangle tests and at quality=high (spatial splits), the OBB tree.
+std::vector<std::string> refit_specs() {
+    std::vector<std::string> specs = {"bvh",
+                                      "bvh:builder=sbvh",
+                                      "bvh:builder=lbvh,optimize=reinsertion,traversal=ordered-centroid",
+                                      "bvh:traversal=ordered-axis,isect=watertight",
+                                      "bvh8:quality=high",
+                                      "bvh8:builder=lbvh",
+                                      "bvh8:nodes=compressed",
+                                      "bvh8:quality=high,nodes=compressed",
+                                      "obb",
+                                      "obb:fit=axes,isect=watertight"};
+    for (bvh8::Isa isa : bvh8::cpu_isas()) {
+        specs.push_back(std::string("bvh8:isa=") + bvh8::isa_name(isa));
+        specs.push_back(std::string("bvh8:isa=") + bvh8::isa_name(isa) + ",isect=watertight");
+    }
+    return specs;
+}
+
+/// A gtest name that no conformance family's filter (*/NAME, */NAME_*) picks up.
+std::string test_name(const ::testing::TestParamInfo<std::string>& info) {
+    std::string name = "refit_";
+    for (char ch : info.param) name += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
+    return name;
+}
+
+class Refit : public ::testing::TestWithParam<std::string> {};
+
+/// Builds `spec` on `base`, moves it by `motion`, refits and checks it against brute force on
+/// the moved scene and against a rebuild there.
+void check_motion(const std::string& spec, const Scene& base, Motion motion, const std::string& key) {
+    SCOPED_TRACE(spec + " on " + base.name + ", " + motion_name(motion));
+    const Scene scene = moved_scene(base, motion);
+    const std::unique_ptr<Accel> accel = build_accel(spec, base);
+    ASSERT_TRUE(accel->refittable());
+    accel->refit(scene);
+    const Reference& ref = reference_for("refit:" + key + ":" + motion_name(motion), scene, isect_of(spec), kRays);
+    EXPECT_EQ(compare_with_reference(*accel, ref, scene.name), "");
+
+    const std::unique_ptr<Accel> rebuilt = build_accel(spec, scene);
+    size_t differ = 0;
+    for (const Ray& r : ref.rays) {
+        const Hit a = accel->intersect(r), b = rebuilt->intersect(r);
+        if (!same_closest_hit(a, b, r, *ref.probe) || accel->occluded(r) != rebuilt->occluded(r)) ++differ;
+    }
+    EXPECT_EQ(differ, 0u) << "rays the refitted structure answers unlike a rebuild";
+
+    // The bounds follow the move.
+    const Aabb want = scene.bounds(), got = accel->bounds();
+    for (int a = 0; a < 3; ++a) {
+        EXPECT_LE(got.min[a], want.min[a]);
+        EXPECT_GE(got.max[a], want.max[a]);
+    }
+    if (accel->has_closest_point()) {
+        const std::unique_ptr<Accel> brute = build_accel("brute", scene);
+        std::mt19937 rng(3);
+        size_t wrong = 0;
+        for (int k = 0; k < 200; ++k) {
+            const float radius = 0.6f * max_component(scene.bounds().extent());
+            const Vec3 p = scene.bounds().center() + random_unit_vector(rng) * radius;
+            if (accel->closest_point(p).distance != brute->closest_point(p).distance) ++wrong;
+        }
+        EXPECT_EQ(wrong, 0u) << "closest points that differ from brute force's after refit";
+    }
+}
+
+TEST_P(Refit, MovedGeneratedMeshMatchesBruteForce) {
+    const Scene base = generated_scene();
+    for (Motion m : {Motion::Bend, Motion::Explode, Motion::FarAndLarge, Motion::Grow})
+        check_motion(GetParam(), base, m, "generated");
+}
+
+TEST_P(Refit, BentAndExplodedBunnyMatchesBruteForce) {
+    if (shared_scene_dir().empty()) GTEST_SKIP() << shared_scenes_missing_message();
+    const Scene& bunny = cached_scene(shared_scene_dir() + "/bunny.ply");
+    for (Motion m : {Motion::Bend, Motion::Explode}) check_motion(GetParam(), bunny, m, "bunny");
+}
+
+/// Moving there and back again gives the original structure's answers bit for bit, and an
+/// unmoved refit keeps the build's SAH cost (spatial splits aside: their leaves' boxes grow to
+/// whole triangles).
+TEST_P(Refit, RoundTripRestoresTheBuild) {
+    const Scene base = generated_scene();
+    const std::unique_ptr<Accel> built = build_accel(GetParam(), base), refitted = build_accel(GetParam(), base);
+    const double sah = refitted->stats().sah_cost;
+    refitted->refit(base);
+    const bool spatial =
+        GetParam().find("sbvh") != std::string::npos || GetParam().find("quality=high") != std::string::npos;
+    if (!spatial) {
+        EXPECT_NEAR(refitted->stats().sah_cost, sah, 1e-9 * sah);
+    }
+    refitted->refit(moved_scene(base, Motion::Explode));
+    refitted->refit(base);
+    const std::vector<Ray> rays = conformance_rays(base, kRays, 5);
+    size_t differ = 0;
+    for (const Ray& r : rays) {
+        const Hit a = built->intersect(r), b = refitted->intersect(r);
+        if (a.t != b.t || (a.prim == kNoPrim) != (b.prim == kNoPrim) || built->occluded(r) != refitted->occluded(r))
+            ++differ;
+    }
+    EXPECT_EQ(differ, 0u);
+}
+
+/// A scene whose triangles share ids with shapes (bvh8's callback leaves, the mixed primitive set).
+TEST_P(Refit, TrianglesAmongShapesMove) {
+    const Scene base = mixed_scene();
+    ASSERT_GT(base.mesh.triangle_count(), 0u);
+    check_motion(GetParam(), base, Motion::Bend, "mixed");
+}
+
+INSTANTIATE_TEST_SUITE_P(Structures, Refit, ::testing::ValuesIn(refit_specs()), test_name);
+
+TEST(RefitRefusals, WrongVertexCountShapesAndNonFiniteAreRefused) {
+    Scene scene = generated_scene();
+    const Scene before = scene;
+    const uint32_t n = scene.geometry(0).vertex_count;
+    std::vector<Vec3> v(n + 1, Vec3(0.0f));
+    try {
+        scene.set_vertices(0, v);
+        FAIL() << "a wrong vertex count was accepted";
+    } catch (const Error& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find(std::to_string(n + 1) + " vertices given"), std::string::npos) << what;
+        EXPECT_NE(what.find("has " + std::to_string(n)), std::string::npos) << what;
+        EXPECT_NE(what.find("geometry 0"), std::string::npos) << what;
+    }
+    v.resize(n);
+    v[5] = Vec3(0.0f, std::nanf(""), 0.0f);
+    EXPECT_THROW(scene.set_vertices(0, v), Error);
+    EXPECT_THROW(scene.set_vertices(1, v), Error) << "geometry 1 does not exist";
+    EXPECT_EQ(scene.mesh.positions, before.mesh.positions) << "a refused move changed the scene";
+
+    const uint32_t shapes = scene.add_shape(Sphere{{10, 0, 0}, 1.0f});
+    try {
+        scene.set_vertices(shapes, std::vector<Vec3>(3, Vec3(0.0f)));
+        FAIL() << "a shape geometry accepted vertices";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("no vertices"), std::string::npos) << e.what();
+    }
+
+    // A second mesh geometry moves alone.
+    TriangleMesh tri;
+    tri.positions = {{0, 5, 0}, {1, 5, 0}, {0, 6, 0}};
+    tri.indices = {0, 1, 2};
+    const uint32_t g = scene.add_mesh(tri);
+    scene.set_vertices(g, std::vector<Vec3>{{0, 7, 0}, {1, 7, 0}, {0, 8, 0}});
+    EXPECT_EQ(scene.mesh.vertex(scene.mesh.triangle_count() - 1, 2), Vec3(0, 8, 0));
+    EXPECT_EQ(scene.mesh.vertex(0, 0), before.mesh.vertex(0, 0));
+}
+
+TEST(RefitRefusals, AnotherTopologyIsRefusedAndLeavesTheStructure) {
+    const Scene base = generated_scene();
+    Scene bigger = base;
+    TriangleMesh tri;
+    tri.positions = {{0, 5, 0}, {1, 5, 0}, {0, 6, 0}};
+    tri.indices = {0, 1, 2};
+    bigger.add_mesh(tri);
+    const std::vector<Ray> rays = conformance_rays(base, 200, 9);
+    for (const std::string spec : {"bvh", "bvh8", "obb"}) {
+        const std::unique_ptr<Accel> accel = build_accel(spec, base), brute = build_accel("brute", base);
+        try {
+            accel->refit(bigger);
+            FAIL() << spec << " refitted to a scene with another primitive count";
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find("rebuild"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find(spec + " refit"), std::string::npos) << e.what();
+        }
+        for (const Ray& r : rays) EXPECT_EQ(accel->intersect(r).t, brute->intersect(r).t) << spec;
+    }
+}
+
+/// bvh8's blocks hold exactly the triangles rays can hit: a triangle flattened to a segment by
+/// the move (or one that gains an interior) needs a rebuild, refused before anything changes.
+TEST(RefitRefusals, Bvh8RefusesATriangleBecomingDegenerate) {
+    const Scene base = generated_scene();
+    Scene flat = base;
+    std::vector<Vec3> v = flat.mesh.positions;
+    const uint32_t a = flat.mesh.indices[30], b = flat.mesh.indices[31], c = flat.mesh.indices[32];
+    v[c] = v[a] + (v[b] - v[a]) * 0.25f;  // on the segment ab: no interior left
+    flat.set_vertices(0, v);
+    const std::unique_ptr<Accel> accel = build_accel("bvh8", base);
+    try {
+        accel->refit(flat);
+        FAIL() << "bvh8 refitted a triangle that became degenerate";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("triangle 10 became degenerate"), std::string::npos) << e.what();
+    }
+    const std::unique_ptr<Accel> brute = build_accel("brute", base);
+    for (const Ray& r : conformance_rays(base, 300, 4)) EXPECT_EQ(accel->intersect(r).t, brute->intersect(r).t);
+    // And back: built on the flat scene, the triangle is a sliver; giving it its interior back is
+    // refused the same way.
+    const std::unique_ptr<Accel> from_flat = build_accel("bvh8", flat);
+    EXPECT_THROW(from_flat->refit(base), Error);
+    // bvh and obb test degeneracy per ray: they take both moves.
+    for (const std::string spec : {"bvh", "obb"}) {
+        const std::unique_ptr<Accel> other = build_accel(spec, base);
+        other->refit(flat);
+        const std::unique_ptr<Accel> flat_brute = build_accel("brute", flat);
+        for (const Ray& r : conformance_rays(flat, 300, 4))
+            EXPECT_EQ(other->intersect(r).t, flat_brute->intersect(r).t) << spec;
+    }
+}
+
+/// An empty scene refits to an empty structure; a scene of one triangle moved far away is found
+/// there and no longer where it was.
+TEST(RefitRefusals, EmptyAndSingleTriangleScenes) {
+    Scene one;
+    one.name = "one triangle";
+    TriangleMesh m;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    m.indices = {0, 1, 2};
+    one.add_mesh(m);
+    Scene moved = one;
+    moved.set_vertices(0, std::vector<Vec3>{{100, 0, 0}, {101, 0, 0}, {100, 1, 0}});
+    for (const std::string spec : {"bvh", "bvh8", "obb", "bvh8:quality=high"}) {
+        const std::unique_ptr<Accel> empty = build_accel(spec, Scene{});
+        EXPECT_NO_THROW(empty->refit(Scene{})) << spec;
+        EXPECT_TRUE(empty->bounds().empty()) << spec;
+        const std::unique_ptr<Accel> accel = build_accel(spec, one);
+        accel->refit(moved);
+        EXPECT_EQ(accel->intersect(Ray{{100.2f, 0.2f, 1}, 0.0f, {0, 0, -1}, kInfinity}).prim, 0u) << spec;
+        EXPECT_EQ(accel->intersect(Ray{{0.2f, 0.2f, 1}, 0.0f, {0, 0, -1}, kInfinity}).prim, kNoPrim) << spec;
+        EXPECT_FALSE(accel->occluded(Ray{{0.2f, 0.2f, 1}, 0.0f, {0, 0, -1}, kInfinity})) << spec;
+        EXPECT_EQ(accel->bounds().min.x, 100.0f) << spec;
+    }
+}
+
+/// Every other structure says it cannot refit, names itself and says to rebuild.
+TEST(RefitRefusals, OtherStructuresSayToRebuild) {
+    const Scene base = generated_scene();
+    size_t checked = 0;
+    for (const AccelInfo& info : accel_registry()) {
+        if (info.name == "bvh" || info.name == "bvh8" || info.name == "obb") continue;
+        const std::unique_ptr<Accel> accel = build_accel(info.name, base);
+        EXPECT_FALSE(accel->refittable()) << info.name;
+        try {
+            accel->refit(base);
+            ADD_FAILURE() << info.name << " refit() did not refuse";
+        } catch (const Error& e) {
+            const std::string what = e.what();
+            EXPECT_NE(what.find("'" + accel->spec() + "'"), std::string::npos) << what;
+            EXPECT_NE(what.find("rebuild"), std::string::npos) << what;
+        }
+        ++checked;
+    }
+    EXPECT_GE(checked, 5u);
+}
+
+/// bvh8's FMA slab test is conservative only while every plane of the tree lies within the
+/// context's plane bounds (docs/bvh8.md): after a refit that grows the scene a thousandfold they
+/// must be the new tree's, not the build's (rays rarely show stale ones: the slack covers most).
+TEST(RefitBvh8, PlaneBoundsFollowTheMove) {
+    const Scene base = generated_scene();
+    const Scene grown = moved_scene(base, Motion::Grow);
+    std::vector<std::string> specs = {"bvh8:quality=high"};
+    for (bvh8::Isa isa : bvh8::cpu_isas()) specs.push_back(std::string("bvh8:isa=") + bvh8::isa_name(isa));
+    for (const std::string& spec : specs) {
+        const std::unique_ptr<Accel> accel = build_accel(spec, base);
+        accel->refit(grown);
+        const auto* tree = dynamic_cast<const Bvh8<Triangles<TriangleTest::Moller>>*>(accel.get());
+        ASSERT_NE(tree, nullptr) << spec;
+        const bvh8::TraceContext& ctx = tree->trace_context();
+        bvh8::TraceContext want;
+        bvh8::set_plane_bounds(want, tree->tree().nodes.data(), tree->tree().nodes.size());
+        for (int a = 0; a < 3; ++a) {
+            EXPECT_EQ(ctx.plane_lo[a], want.plane_lo[a]) << spec << " axis " << a;
+            EXPECT_EQ(ctx.plane_hi[a], want.plane_hi[a]) << spec << " axis " << a;
+        }
+        EXPECT_EQ(ctx.nodes, tree->tree().nodes.data()) << spec;
+        EXPECT_EQ(ctx.blocks, tree->blocks().data()) << spec;
+    }
+}
+
+/// The README's refit example ("Moving vertices: refit"), on the bunny, checked against brute force.
+TEST(RefitReadme, ExampleRefitsLikeBruteForce) {
+    if (shared_scene_dir().empty()) GTEST_SKIP() << shared_scenes_missing_message();
+    thicket::Scene scene = thicket::load_scene(shared_scene_dir() + "/bunny.ply");
+    auto accel = thicket::build_accel("bvh8", scene);
+    std::vector<thicket::Vec3> v = scene.mesh.positions;
+    for (thicket::Vec3& p : v) p.y += 0.1f * p.x * p.x * 100.0f;
+    scene.set_vertices(0, v);
+    accel->refit(scene);
+    const std::unique_ptr<Accel> brute = build_accel("brute", scene);
+    size_t differ = 0;
+    for (const Ray& r : conformance_rays(scene, 300, 2)) differ += accel->intersect(r).t != brute->intersect(r).t;
+    EXPECT_EQ(differ, 0u);
+}
+
+}  // namespace
+}  // namespace thicket::testing
