@@ -16,26 +16,17 @@
 #include "thicket/render/sampling.h"
 #include "thicket/scene/scene.h"
 
+#include "support/independent_math.h"
+
 namespace thicket {
 namespace {
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr uint32_t kWorkScale = 4;  // sanitizer builds: a quarter of the samples, same bounds in SE
-#else
-constexpr uint32_t kWorkScale = 1;
-#endif
 
-constexpr double kPiD = 3.14159265358979323846;
+using testing::D3;
+using testing::kPiD;
+using testing::kWorkScale;
+using testing::norm;
 
-/// A double-precision point or direction, so that the expected values do not share the
-/// renderer's float arithmetic.
-struct D3 {
-    double x = 0, y = 0, z = 0;
-};
-D3 operator+(D3 a, D3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-D3 operator-(D3 a, D3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-D3 operator*(D3 a, double s) { return {a.x * s, a.y * s, a.z * s}; }
-double norm(D3 a) { return std::sqrt(a.x * a.x + a.y * a.y + a.z * a.z); }
 D3 d3(Vec3 v) { return {v.x, v.y, v.z}; }
 
 /// Appends the rectangle y = `y`, x in [x0, x1], z in [z0, z1] as two triangles whose geometric

@@ -23,27 +23,18 @@
 #include "thicket/render/sampling.h"
 #include "thicket/scene/scene.h"
 
+#include "support/independent_math.h"
+
 namespace thicket {
 namespace {
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr uint32_t kWorkScale = 4;  // sanitizer builds: a quarter of the samples, same bounds in SE
-#else
-constexpr uint32_t kWorkScale = 1;
-#endif
 
-constexpr double kPi = 3.14159265358979323846;
-
-struct V {
-    double x = 0, y = 0, z = 0;
-    V operator+(V b) const { return {x + b.x, y + b.y, z + b.z}; }
-    V operator-(V b) const { return {x - b.x, y - b.y, z - b.z}; }
-    V operator*(double s) const { return {x * s, y * s, z * s}; }
-    V operator*(V b) const { return {x * b.x, y * b.y, z * b.z}; }
-};
-double dot(V a, V b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-V cross(V a, V b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-V unit(V a) { return a * (1.0 / std::sqrt(dot(a, a))); }
+using V = testing::D3;
+using testing::cross;
+using testing::dot;
+using testing::kWorkScale;
+using testing::unit;
+constexpr double kPi = testing::kPiD;
 /// Rec. 709 luminance, the weights the renderer's luminance() documents.
 double lum(V c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 

@@ -16,16 +16,14 @@
 #include "thicket/render/sampling.h"
 #include "thicket/scene/scene.h"
 
+#include "support/independent_math.h"
+
 namespace thicket {
 namespace {
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr uint32_t kWorkScale = 4;  // sanitizer builds: a quarter of the samples, same bounds in SE
-#else
-constexpr uint32_t kWorkScale = 1;
-#endif
 
-constexpr double kPiD = 3.14159265358979323846;
+using testing::kPiD;
+using testing::kWorkScale;
 double radians(double degrees) { return degrees * kPiD / 180.0; }
 
 /// Unpolarised reflectance of light arriving at angle theta_i (radians) from index n_i onto index
@@ -73,7 +71,7 @@ TEST(LightTransportFresnel, MatchesTheAngleFormEnteringAndLeavingGlass) {
             const double theta = radians(deg);
             const FresnelTruth truth = fresnel_truth(theta, side.n_i, side.n_t);
             const float cos_i = float(std::cos(theta));
-            SCOPED_TRACE(testing::Message() << "n_i " << side.n_i << " n_t " << side.n_t << " angle " << deg);
+            SCOPED_TRACE(::testing::Message() << "n_i " << side.n_i << " n_t " << side.n_t << " angle " << deg);
             EXPECT_NEAR(fresnel_dielectric(cos_i, eta), truth.r(), 2e-6);
             EXPECT_NEAR(fresnel_transmittance(cos_i, eta), 1.0 - truth.r(), 2e-6);
         }
@@ -134,7 +132,7 @@ void check_pdf_matches_sample(const LightScene& ls, const std::vector<Vec3>& poi
     ASSERT_EQ(lights.size(), 3u);
     EXPECT_NEAR(lights.total_power(), ls.power[0] + ls.power[1] + ls.power[2], 1e-4 * lights.total_power());
     for (const Vec3 p : points) {
-        SCOPED_TRACE(testing::Message() << "point " << p.x << " " << p.y << " " << p.z);
+        SCOPED_TRACE(::testing::Message() << "point " << p.x << " " << p.y << " " << p.z);
         Rng rng(7, 11);
         int points_drawn = 0, drawn = 0, bad = 0;
         for (int s = 0; s < count; ++s) {
@@ -170,7 +168,7 @@ void check_pdf_matches_sample(const LightScene& ls, const std::vector<Vec3>& poi
 void check_pdf_integrates_to_pick(const LightScene& ls, const std::vector<Vec3>& points, int count) {
     const LightSet lights(ls.rs);
     for (const Vec3 p : points) {
-        SCOPED_TRACE(testing::Message() << "point " << p.x << " " << p.y << " " << p.z);
+        SCOPED_TRACE(::testing::Message() << "point " << p.x << " " << p.y << " " << p.z);
         Rng rng(3, 5);
         double sum[2] = {}, sum2[2] = {};
         for (int s = 0; s < count; ++s) {

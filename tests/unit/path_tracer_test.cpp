@@ -17,14 +17,12 @@
 #include "thicket/render/sampling.h"
 #include "thicket/scene/scene.h"
 
+#include "support/independent_math.h"
+
 namespace thicket {
 namespace {
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr uint32_t kWorkScale = 4;  // sanitizer builds: a quarter of the samples, same bounds in SE
-#else
-constexpr uint32_t kWorkScale = 1;
-#endif
+using testing::kWorkScale;
 
 /// Mean luminance over the pixels in `mask` (all when empty) and its standard error.
 struct Estimate {

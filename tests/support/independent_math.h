@@ -1,0 +1,31 @@
+#pragma once
+/// What the tests that check the renderer against independent truth share: the sample scale of
+/// sanitizer builds, and double-precision vectors that share no arithmetic with the library's
+/// float Vec3 (the expected values must not inherit the code under test's rounding).
+#include <cmath>
+#include <cstdint>
+
+namespace thicket::testing {
+
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+inline constexpr uint32_t kWorkScale = 4;  ///< sanitizer builds: a quarter of the samples, same bounds in SE
+#else
+inline constexpr uint32_t kWorkScale = 1;
+#endif
+
+inline constexpr double kPiD = 3.14159265358979323846;
+
+/// A double-precision point, direction or colour.
+struct D3 {
+    double x = 0, y = 0, z = 0;
+    D3 operator+(D3 b) const { return {x + b.x, y + b.y, z + b.z}; }
+    D3 operator-(D3 b) const { return {x - b.x, y - b.y, z - b.z}; }
+    D3 operator*(double s) const { return {x * s, y * s, z * s}; }
+    D3 operator*(D3 b) const { return {x * b.x, y * b.y, z * b.z}; }  ///< component-wise (colours)
+};
+inline double dot(D3 a, D3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline D3 cross(D3 a, D3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+inline double norm(D3 a) { return std::sqrt(dot(a, a)); }
+inline D3 unit(D3 a) { return a * (1.0 / norm(a)); }
+
+}  // namespace thicket::testing
