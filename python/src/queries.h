@@ -21,10 +21,12 @@ namespace thicket::python {
 /// A structure and the scene it was built over (normals and closest points need the scene; the
 /// structure must not outlive it).
 struct AccelHandle {
-    AccelHandle(std::shared_ptr<const Scene> s, std::shared_ptr<const Accel> a)
+    AccelHandle(std::shared_ptr<const Scene> s, std::shared_ptr<Accel> a)
         : scene(std::move(s)), accel(std::move(a)), points(std::make_unique<PointQueries>(*accel, *scene)) {}
+    /// Replaced by Accel.refit with the scene it was refitted to.
     std::shared_ptr<const Scene> scene;
-    std::shared_ptr<const Accel> accel;
+    /// Not const: Accel.refit updates it in place.
+    std::shared_ptr<Accel> accel;
     /// The library's point queries over both (closest points from a bvh8 built on first use when
     /// `accel` cannot answer them itself).
     std::unique_ptr<PointQueries> points;
