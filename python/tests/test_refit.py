@@ -107,7 +107,9 @@ def test_moving_the_scene_in_place_then_refitting_it(two_sheets_path, spec):
     scene = thicket.load_scene(two_sheets_path)
     accel = thicket.build(scene, spec)
     rays = rays_through(scene)
-    scene.set_vertices(1, moved(second_sheet(scene)).astype(np.float32))
+    want = moved(second_sheet(scene)).astype(np.float32)
+    scene.set_vertices(1, want)
+    assert np.array_equal(second_sheet(scene), want)
     accel.refit(scene)
     assert_same(answers(accel, rays), answers(thicket.build(scene, "brute"), rays))
     # And back again: a second refit follows a second move.
