@@ -137,7 +137,7 @@ PYBIND11_MODULE(_thicket, m) {
         .def_property_readonly("spec", [](const AccelHandle& h) { return h.accel->spec(); },
                                "str: the full spec NAME:key=value,... it was built with (defaults filled in)")
         .def_property_readonly("scene", [](const AccelHandle& h) { return std::const_pointer_cast<Scene>(h.scene); },
-                               "Scene: the scene it was built over (kept alive with it)")
+                               "Scene: the scene it was built over, or last refitted to (kept alive with it)")
         .def_property_readonly("bounds", [](const AccelHandle& h) { return bounds_tuple(h.accel->bounds()); },
                                "((xmin, ymin, zmin), (xmax, ymax, zmax)): the box around its primitives, floats")
         .def("stats", [](const AccelHandle& h) { return stats_dict(h.accel->stats()); },

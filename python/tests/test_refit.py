@@ -2,6 +2,7 @@
 answers exactly as a fresh build (and brute force) over the moved scene; what cannot be moved or
 refitted is refused with a message, leaving the scene and the structure as they were."""
 
+import gc
 import json
 
 import numpy as np
@@ -175,3 +176,20 @@ def test_refit_refuses_a_scene_of_another_topology(two_sheets_path, spec):
         accel.refit(scene, nthreads=-1)
     assert accel.scene is scene
     assert_same(answers(accel, rays), before)
+
+
+def test_the_scene_built_over_may_go_once_the_structure_is_refitted_to_another(two_sheets_path):
+    # The structure holds copies of its primitives and the module the scene it was given: the
+    # first scene gone, every query reads the second.
+    first = thicket.load_scene(two_sheets_path)
+    accel = thicket.build(first, "obb")
+    second = thicket.load_scene(two_sheets_path)
+    second.set_vertices(1, moved(second_sheet(second)))
+    accel.refit(second)
+    del first
+    gc.collect()
+    rays = rays_through(second)
+    brute = thicket.build(second, "brute")
+    assert_same(answers(accel, rays), answers(brute, rays))
+    points = np.array([[0.5, 0.5, 0.6]], np.float32)
+    assert np.array_equal(accel.compute_distance(points), brute.compute_distance(points))
