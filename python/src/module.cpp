@@ -117,6 +117,13 @@ PYBIND11_MODULE(_thicket, m) {
             std::copy(s.mesh.indices.begin(), s.mesh.indices.end(), a.mutable_data());
             return a;
         }, "a copy of the triangles' vertex indices, uint32 (T, 3)")
+        .def("set_vertices", &set_scene_vertices, "geometry_id"_a, "vertices"_a,
+             "set_vertices(geometry_id, vertices) -> None. Moves the vertices of geometry geometry_id (int, as "
+             "geometry_ids number them) to vertices, an array-like (N, 3) of any float dtype (stored as float32), N being the "
+             "geometry's own vertex count, in the order they were given; its triangles keep their indices. Structures "
+             "built over the scene answer for the moved scene after Accel.refit(scene) (or a rebuild). ValueError, the "
+             "scene unchanged, for an id out of range, a wrong shape, dtype or count, a value not finite as float32, "
+             "or a geometry of shapes. Not while a query runs on a structure over this scene in another thread")
         .def("__repr__", [](const Scene& s) {
             return "<thicket.Scene '" + s.name + "': " + std::to_string(s.mesh.triangle_count()) + " triangles, " +
                    std::to_string(s.shapes.size()) + " shapes>";
@@ -130,7 +137,7 @@ PYBIND11_MODULE(_thicket, m) {
         .def_property_readonly("spec", [](const AccelHandle& h) { return h.accel->spec(); },
                                "str: the full spec NAME:key=value,... it was built with (defaults filled in)")
         .def_property_readonly("scene", [](const AccelHandle& h) { return std::const_pointer_cast<Scene>(h.scene); },
-                               "Scene: the scene it was built over (kept alive with it)")
+                               "Scene: the scene it was built over, or last refitted to (kept alive with it)")
         .def_property_readonly("bounds", [](const AccelHandle& h) { return bounds_tuple(h.accel->bounds()); },
                                "((xmin, ymin, zmin), (xmax, ymax, zmax)): the box around its primitives, floats")
         .def("stats", [](const AccelHandle& h) { return stats_dict(h.accel->stats()); },
@@ -203,13 +210,37 @@ PYBIND11_MODULE(_thicket, m) {
              "compute_occupancy(query_points, nthreads=0, nsamples=1) -> float32 ndarray. query_points: float32 "
              "(..., 3). 1 inside, 0 outside, float32 (...), by the parity of crossings along nsamples (odd, up to 5) "
              "directions, the majority deciding")
+        .def("refit", [](AccelHandle& h, std::shared_ptr<Scene> scene, const py::handle& nthreads) {
+            if (!scene) throw py::value_error("refit: scene is None");
+            const unsigned threads = thread_count(nthreads);
+            {
+                py::gil_scoped_release nogil;
+                h.accel->refit(*scene, threads);
+            }
+            // What the handle derived from the old positions goes with them: the normals cast_rays
+            // caches, and the bvh8 closest points may have built for a structure that cannot answer
+            // them itself (PointQueries also holds the scene it was made for).
+            h.scene = scene;
+            h.triangle_normals.reset();
+            h.points = std::make_unique<PointQueries>(*h.accel, *h.scene);
+        }, "scene"_a, "nthreads"_a = 0,
+             "refit(scene, nthreads=0) -> None. Brings the structure up to date with scene after Scene.set_vertices "
+             "moved its vertices: scene must have the primitives the structure was built over, in the same order "
+             "(only positions may differ); it becomes the structure's scene. The tree keeps its shape and its boxes "
+             "are recomputed, so every query then answers for the moved scene (exactly as a rebuild would), though "
+             "perhaps slower than after a rebuild. bvh, bvh8 and obb refit (see refittable); others raise "
+             "thicket.Error saying to rebuild, as does a scene of another topology, leaving the structure unchanged. "
+             "Runs without the GIL on nthreads threads (0: one per core); not while a query runs on this structure "
+             "in another thread")
+        .def_property_readonly("refittable", [](const AccelHandle& h) { return h.accel->refittable(); },
+                               "bool: whether refit() is supported (bvh, bvh8, obb)")
         .def("__repr__", [](const AccelHandle& h) { return "<thicket.Accel '" + h.accel->spec() + "'>"; });
 
     m.def("build", [](std::shared_ptr<Scene> scene, const std::string& spec) {
         if (!scene) throw py::value_error("build: scene is None");
         check_no_nul(spec, "spec");
         py::gil_scoped_release nogil;
-        std::shared_ptr<const Accel> accel = build_accel(spec, *scene);
+        std::shared_ptr<Accel> accel = build_accel(spec, *scene);
         return AccelHandle(scene, accel);
     }, "scene"_a, "spec"_a = "bvh8",
           "build(scene, spec='bvh8') -> Accel. Builds a structure over scene (a Scene) from a spec string "
@@ -219,7 +250,7 @@ PYBIND11_MODULE(_thicket, m) {
         if (!scene) throw py::value_error("load: scene is None");
         const std::string p = path_argument(path, "path");
         std::optional<InputFile> file = input_file(p, "the saved structure");
-        std::shared_ptr<const Accel> accel;
+        std::shared_ptr<Accel> accel;
         {
             py::gil_scoped_release nogil;
             accel = load_accel(p, *scene);

@@ -18,19 +18,20 @@
 
 namespace thicket::python {
 
-/// A structure and the scene it was built over (normals and closest points need the scene; the
-/// structure must not outlive it).
+/// A structure and the scene it was built over, or last refitted to (normals and closest points
+/// need the scene; the structure must not outlive it).
 struct AccelHandle {
-    AccelHandle(std::shared_ptr<const Scene> s, std::shared_ptr<const Accel> a)
+    AccelHandle(std::shared_ptr<const Scene> s, std::shared_ptr<Accel> a)
         : scene(std::move(s)), accel(std::move(a)), points(std::make_unique<PointQueries>(*accel, *scene)) {}
     std::shared_ptr<const Scene> scene;
-    std::shared_ptr<const Accel> accel;
+    /// Not const: Accel.refit updates it in place.
+    std::shared_ptr<Accel> accel;
     /// The library's point queries over both (closest points from a bvh8 built on first use when
     /// `accel` cannot answer them itself).
     std::unique_ptr<PointQueries> points;
-    /// Scene::normal of every triangle of a triangle scene, made on its first cast_rays (only
-    /// ever touched with the GIL held): cast_rays writes one normal per hit, and one load from
-    /// here costs a sixth of the index and vertex loads (and the square root) behind Scene::normal.
+    /// Scene::normal of every triangle of a triangle scene, made on its first cast_rays and dropped
+    /// by Accel.refit (only ever touched with the GIL held): cast_rays writes one normal per hit,
+    /// and one load from here costs a sixth of the index and vertex loads (and the square root) behind Scene::normal.
     std::shared_ptr<const std::vector<Vec3>> triangle_normals;
     /// The saved structure it was loaded from (thicket.load), which Accel.save never replaces.
     std::optional<InputFile> saved_from;

@@ -3,10 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <type_traits>
 #include <utility>
+#include <vector>
 
 #include "arrays.h"
+#include "thicket/core/error.h"
 #include "thicket/core/ray.h"
 
 namespace thicket::python {
@@ -98,6 +101,45 @@ std::shared_ptr<Scene> scene_from_arrays(const py::array& vertices, const py::ar
     else
         read_indices<int64_t>(triangles, nv, scene->mesh.indices);
     return scene;
+}
+
+void set_scene_vertices(Scene& scene, const py::handle& geometry_id, const py::handle& vertices_like) {
+    const size_t geometries = scene.geometry_count();
+    const std::string range = geometries == 0 ? std::string("a geometry id, but the scene has no geometry")
+                                              : "a geometry id in 0.." + std::to_string(geometries - 1);
+    const auto id = uint32_t(int_argument(geometry_id, "geometry_id", 0, int64_t(geometries) - 1, range.c_str()));
+    // numpy.asarray: a list of rows is vertices too (no copy of an array); what is not an array
+    // of floats shows in the message as the shape and dtype numpy made of it.
+    const py::array vertices = py::module_::import("numpy").attr("asarray")(vertices_like);
+    if (vertices.ndim() != 2 || vertices.shape(1) != 3 || vertices.dtype().kind() != 'f')
+        throw py::value_error("vertices: expected a float array of shape (N, 3), got shape " + shape_text(vertices) +
+                              " " + std::string(py::str(vertices.dtype())));
+    // Checked before the copy: a wrong count is refused without converting anything.
+    const size_t want = scene.geometry(id).vertex_count, rows = size_t(vertices.shape(0));
+    if (want == 0 && rows != 0)
+        throw py::value_error("vertices: geometry " + std::to_string(id) + " has no vertices to move (shapes)");
+    if (rows != want)
+        throw py::value_error("vertices: " + std::to_string(rows) + " rows given, geometry " + std::to_string(id) +
+                              " has " + std::to_string(want) +
+                              " vertices (moving vertices keeps the triangles: same count, same order)");
+    std::vector<Vec3> positions;
+    positions.reserve(rows);
+    for_each_block<double>(vertices, "vertices", [&](const double* block, size_t first, size_t count) {
+        for (size_t i = 0; i < count; ++i) {
+            const double* p = block + 3 * i;
+            // A float64 beyond float32's range would not narrow to a number (the cast is undefined).
+            for (int k = 0; k < 3; ++k)
+                if (!(std::fabs(p[k]) <= double(std::numeric_limits<float>::max())))
+                    throw py::value_error("vertices: row " + std::to_string(first + i) +
+                                          " is not finite as float32: " + std::to_string(p[k]));
+            positions.push_back({float(p[0]), float(p[1]), float(p[2])});
+        }
+    });
+    try {
+        scene.set_vertices(id, positions);
+    } catch (const Error& e) {
+        throw py::value_error(e.what());
+    }
 }
 
 std::shared_ptr<Scene> load_scene_file(const std::string& path) {

@@ -24,6 +24,13 @@ namespace py = pybind11;
 /// rows at a time, so a strided or broadcast array is never copied whole.
 std::shared_ptr<Scene> scene_from_arrays(const py::array& vertices, const py::array& triangles);
 
+/// Scene.set_vertices: moves the vertices of geometry `geometry_id` (an int in
+/// 0..geometry_count-1, else ValueError naming it) to `vertices`, an array-like (numpy.asarray)
+/// (N, 3) of any float dtype with N the geometry's own vertex count, every value finite as
+/// float32. Every refusal is a ValueError naming the argument, and leaves the scene as it was; the
+/// library's own too. The rows are converted a block at a time, as Scene(V, T) converts them.
+void set_scene_vertices(Scene& scene, const py::handle& geometry_id, const py::handle& vertices);
+
 /// load_scene(path) without the GIL, the scene remembering the regular file it came from.
 std::shared_ptr<Scene> load_scene_file(const std::string& path);
 

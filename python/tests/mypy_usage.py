@@ -34,6 +34,11 @@ def use_everything(tmp_dir: str) -> float:
     accel.save(path, overwrite=True)
     again: thicket.Accel = thicket.load(path, accel.scene)
     assert again.spec == accel.spec and again.stats()["primitives"] == 1 and accel.bounds == scene.bounds
+    # Moving vertices, then refitting (bvh can).
+    scene.set_vertices(0, v + np.float32(0.0))
+    refittable: bool = accel.refittable
+    accel.refit(scene, nthreads=1)
+    assert refittable and accel.scene.triangle_count == 1
     assert thicket.INVALID_ID == 4294967295 and issubclass(thicket.Error, RuntimeError)
     # Rays and pictures.
     primary = thicket.rays(scene, "primary", width=4, height=3, eye=(0.25, 0.25, 2), center=(0.25, 0.25, 0))

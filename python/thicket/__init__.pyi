@@ -79,6 +79,8 @@ class Scene:
     @property
     def triangles(self) -> _UInt32Array:
         """A copy, uint32 (T, 3)."""
+    def set_vertices(self, geometry_id: int, vertices: npt.ArrayLike) -> None:
+        """Moves geometry geometry_id's vertices to (N, 3) of any float dtype (N its own vertex count); then Accel.refit(scene)."""
 
 class Accel:
     """An acceleration structure over a scene: thicket.build(scene, spec) or thicket.load(path, scene)."""
@@ -91,6 +93,11 @@ class Accel:
     def stats(self) -> Dict[str, Any]:
         """spec, primitives, nodes, leaves, max_depth, bytes, primitive_bytes, sah_cost, build_ms, extra."""
     def save(self, path: _Path, overwrite: bool = False) -> None: ...
+    @property
+    def refittable(self) -> bool:
+        """Whether refit() is supported (bvh, bvh8, obb)."""
+    def refit(self, scene: Scene, nthreads: int = 0) -> None:
+        """Updates the structure for scene's moved vertices (same primitives, same order); thicket.Error if it cannot refit."""
     def cast_rays(self, rays: _Float32Array, nthreads: int = 0, coherent: bool = False) -> _CastResult:
         """rays float32 (..., 6) or (..., 8) -> closest hits, each array of the rays' leading shape."""
     def test_occlusions(self, rays: _Float32Array, tnear: Optional[float] = None, tfar: Optional[float] = None,
