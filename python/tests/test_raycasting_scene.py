@@ -128,6 +128,14 @@ def test_misses_and_an_empty_scene_answer_invalid_ids():
     assert ans["t_hit"][0] == np.inf and ans["geometry_ids"][0] == ans["primitive_ids"][0] == empty.INVALID_ID
     assert empty.compute_distance([[0.0, 0.0, 0.0]])[0] == np.inf and empty.count_intersections(ray)[0] == 0
     assert thicket.RaycastingScene.INVALID_ID == thicket.INVALID_ID == INVALID
+    # Geometries without triangles take ids, answer nothing, and may still be moved.
+    assert empty.add_triangles(np.zeros((3, 3)), np.zeros((0, 3), np.int64)) == 0
+    assert empty.cast_rays(ray)["t_hit"][0] == np.inf
+    empty.set_vertices(0, np.ones((3, 3)))
+    assert empty.cast_rays(ray)["t_hit"][0] == np.inf
+    assert empty.add_triangles(*cube_arrays()) == 1 and empty.add_triangles(np.zeros((0, 3)), np.zeros((0, 3), int)) == 2
+    ans = empty.cast_rays(ray)
+    assert ans["geometry_ids"].tolist() == [1] and ans["t_hit"].tolist() == [9.0]
 
 
 def test_list_and_count_intersections_are_per_geometry():

@@ -131,6 +131,8 @@ class RaycastingScene:
         "bvh8": the fastest traversal, answers closest points itself, and refits); a bad spec is a
         thicket.Error here, not at the first query."""
         self._nthreads = _count(nthreads, "nthreads", "0 (one thread per core) or a thread count")
+        if self._nthreads > _INVALID:
+            raise ValueError(f"nthreads must be 0 (one thread per core) or a thread count up to {_INVALID}, got {nthreads}")
         if not isinstance(accel, str):
             raise TypeError(f"accel must be a spec string such as 'bvh8', got {type(accel).__name__}")
         self._spec = accel
@@ -216,17 +218,18 @@ class RaycastingScene:
 
     def _current(self):
         """The structure, brought up to date with every add_triangles and set_vertices."""
-        if self._pending:
+        # A scene of vertices without triangles has no geometry to move in place (Scene.set_vertices
+        # refuses it): it is made again, as after add_triangles.
+        if self._pending or (self._moved and not self._scene.triangle_count):
             self._rebuild()
         elif self._moved:
             vertices = self._scene.vertices
             self._apply_moves(vertices)
-            if len(vertices):  # else only geometries without vertices "moved"
-                self._scene.set_vertices(0, vertices)
-                if self._accel.refittable:
-                    self._accel.refit(self._scene, nthreads=self._nthreads)
-                else:
-                    self._accel = build(self._scene, self._spec)
+            self._scene.set_vertices(0, vertices)
+            if self._accel.refittable:
+                self._accel.refit(self._scene, nthreads=self._nthreads)
+            else:
+                self._accel = build(self._scene, self._spec)
             self._moved = {}
         return self._accel
 
