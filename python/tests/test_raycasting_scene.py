@@ -284,6 +284,10 @@ def test_inputs_open3d_code_passes():
     assert scene.compute_distance([[4.5, 4.5, 6.0]]).tolist() == [1.0]
     with pytest.raises(ValueError, match=r"add_triangles.*triangles: row 0 has vertex index 8, outside 0..7"):
         scene.add_triangles(v, t + 8)
+    with pytest.raises(ValueError, match="row 1 is not finite as float32"):
+        scene.add_triangles(np.array([[0, 0, 0], [1e39, 0, 0], [0, 1, 0]]), [[0, 1, 2]])
+    with pytest.raises(ValueError, match="row 2 is not finite"):
+        scene.add_triangles(np.array([[0, 0, 0], [1, 0, 0], [0, np.nan, 0]], np.float32), [[0, 1, 2]])
     with pytest.raises(ValueError, match="rays: expected a float array"):
         scene.cast_rays(np.zeros((2, 6), np.int32))
     with pytest.raises(ValueError, match="shape"):

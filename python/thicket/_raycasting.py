@@ -168,6 +168,13 @@ class RaycastingScene:
             vertices, triangles = _mesh_arrays(vertex_positions)
         else:
             vertices, triangles = _as_array(vertex_positions), _as_array(triangle_indices)
+        if vertices.dtype.kind == "f" and vertices.dtype.itemsize > 4 and vertices.ndim == 2 and len(vertices):
+            # Scene(V, T) checks finiteness before its float32 rounding, which turns a float64
+            # beyond float32's range into inf: that is refused here.
+            big = np.flatnonzero(~(np.abs(vertices) <= np.finfo(np.float32).max).all(axis=1))
+            if big.size:
+                raise ValueError(f"add_triangles: vertex_positions row {big[0]} is not finite as float32: "
+                                 f"{vertices[big[0]].tolist()}")
         try:
             # Scene(V, T) checks shapes, dtypes, finiteness and every index, and keeps the float32
             # and uint32 copy that the next build concatenates.
