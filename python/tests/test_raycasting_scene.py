@@ -304,6 +304,9 @@ def test_answers_have_tensor_numpy_and_rays_pinhole_is_open3ds():
     rays = thicket.RaycastingScene.create_rays_pinhole(fov_deg=90, center=[0, 0, 2], eye=[2, 3, 0], up=[0, 1, 0],
                                                        width_px=64, height_px=48)
     np.testing.assert_array_equal(rays, thicket.create_rays_pinhole(90, [0, 0, 2], [2, 3, 0], [0, 1, 0], 64, 48))
+    k, e = [[30.0, 0, 32], [0, 30, 24], [0, 0, 1]], np.eye(4)  # the matrix form, from an instance as Open3D's docs call it
+    np.testing.assert_array_equal(scene.create_rays_pinhole(k, e, 64, 48), thicket.create_rays_pinhole(k, e, 64, 48))
+    assert scene.create_rays_pinhole(intrinsic_matrix=k, extrinsic_matrix=e, width_px=4, height_px=3).numpy().shape == (3, 4, 6)
     ans = scene.cast_rays(rays)
     plain = ans["t_hit"].numpy()
     assert type(plain) is np.ndarray and plain.shape == (48, 64) and np.shares_memory(plain, ans["t_hit"])
