@@ -51,4 +51,17 @@ def use_everything(tmp_dir: str) -> float:
     radiance: npt.NDArray[np.float32] = thicket.path_trace(accel, spp=1, width=4, height=3, lights=[((0, 0, 1), 1.0)])
     thicket.save_png(tmp_dir + "/tri.png", radiance, exposure=2.0, overwrite=True)
     assert depth.shape == (3, 4) and normal.shape == (3, 4, 3) and colours.shape == (3, 4, 3)
+    # Open3D's multi-mesh class: geometry ids, per-geometry primitive ids, Tensor's numpy().
+    several = thicket.RaycastingScene(nthreads=1, accel="bvh8")
+    first: int = several.add_triangles(v, np.array([[0, 1, 2]], np.uint32))
+    second = several.add_triangles(mesh=scene)
+    several.set_vertices(second, v + np.float32(0.0))
+    several.refit()
+    answers = several.cast_rays(thicket.RaycastingScene.create_rays_pinhole(40.0, [0.25, 0.25, 0], [0.25, 0.25, 2], [0, 1, 0], 3, 3))
+    which: npt.NDArray[np.uint32] = answers["geometry_ids"].numpy()
+    seen: npt.NDArray[np.bool_] = answers["t_hit"].isfinite()
+    assert first == 0 and second == 1 and int(which[1, 1]) in (0, 1) and bool(seen[1, 1])
+    assert several.compute_closest_points(points)["primitive_ids"][0] == 0 and several.INVALID_ID == thicket.INVALID_ID
+    inside: npt.NDArray[np.float32] = several.compute_occupancy(points, nsamples=3)
+    assert several.test_occlusions(rays, tfar=10.0).shape == (3, 3) and inside.shape == (1,)
     return float(t[1, 1]) + float(d[0])

@@ -9,6 +9,7 @@
     image = thicket.path_trace(scene, spp=64)         # (480, 640, 3) float32 linear radiance
     thicket.save_png("bunny.png", image)              # sRGB-encoded, as `thicket render` writes it
     primary = thicket.rays(scene, "primary")          # the bench's ray sets, as `thicket rays`
+    several = thicket.RaycastingScene()               # Open3D's multi-mesh class: add_triangles -> ids
 
 Queries are named and shaped as Open3D's RaycastingScene answers them (t_hit, primitive_ids,
 primitive_uvs, primitive_normals, ...); rays of 8 columns add a per-ray [tmin, tmax]. Tracing
@@ -30,9 +31,10 @@ malformed file, a saved structure of another scene).
 
 from ._thicket import Accel, Error, Scene, accels, build, heat_colours, load, load_scene, path_trace, rays, save_png
 from ._cameras import create_rays_pinhole
+from ._raycasting import RaycastingScene
 
 INVALID_ID = 4294967295
 """primitive_ids and geometry_ids of a miss (Open3D's RaycastingScene.INVALID_ID)."""
 
 __all__ = ["Accel", "Error", "Scene", "accels", "build", "load", "load_scene", "create_rays_pinhole", "rays",
-           "path_trace", "heat_colours", "save_png", "INVALID_ID"]
+           "path_trace", "heat_colours", "save_png", "INVALID_ID", "RaycastingScene"]

@@ -2,7 +2,7 @@
 # IDEs and mypy. python/tests/test_stub.py checks that its names are the module's, and the module's
 # its own. Arrays are numpy arrays; shapes are in the docstrings (numpy's types do not carry them).
 import os
-from typing import Any, Dict, List, Literal, Optional, Sequence, Tuple, TypedDict, Union, overload
+from typing import Any, Dict, Generic, List, Literal, Optional, Sequence, Tuple, TypedDict, TypeVar, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -131,6 +131,79 @@ class Accel:
                vfov_deg: Optional[float] = None, counter: Optional[Literal["nodes", "prims"]] = None,
                nthreads: int = 0) -> _UInt32Array:
         """uint32 (height, width): nodes visited (or primitives tested) per pixel's ray."""
+
+_S = TypeVar("_S", bound=np.generic)
+
+class _Answer(np.ndarray[Any, np.dtype[_S]], Generic[_S]):
+    """A RaycastingScene answer: a numpy array with Open3D Tensor's numpy() and isfinite()."""
+    def numpy(self) -> npt.NDArray[_S]: ...
+    def isfinite(self) -> npt.NDArray[np.bool_]: ...
+
+class _SceneCast(TypedDict):
+    t_hit: _Answer[np.float32]             # (...)       inf on a miss
+    geometry_ids: _Answer[np.uint32]       # (...)       add_triangles' id; INVALID_ID on a miss
+    primitive_ids: _Answer[np.uint32]      # (...)       the triangle within its geometry; INVALID_ID on a miss
+    primitive_uvs: _Answer[np.float32]     # (..., 2)
+    primitive_normals: _Answer[np.float32]  # (..., 3)
+
+class _SceneIntersections(TypedDict):
+    ray_splits: _Answer[np.uint32]         # (N + 1,)
+    ray_ids: _Answer[np.uint32]            # (M,)
+    t_hit: _Answer[np.float32]             # (M,)
+    geometry_ids: _Answer[np.uint32]       # (M,)
+    primitive_ids: _Answer[np.uint32]      # (M,)       within the geometry
+    primitive_uvs: _Answer[np.float32]     # (M, 2)
+
+class _SceneClosest(TypedDict):
+    points: _Answer[np.float32]            # (..., 3)
+    geometry_ids: _Answer[np.uint32]       # (...)
+    primitive_ids: _Answer[np.uint32]      # (...)      within the geometry
+    primitive_uvs: _Answer[np.float32]     # (..., 2)
+    primitive_normals: _Answer[np.float32]  # (..., 3)
+
+_Input = Union[npt.ArrayLike, Any]  # a numpy array, a list, an Open3D Tensor
+
+class RaycastingScene:
+    """Open3D's RaycastingScene: several meshes, each a geometry id; instances are not here yet."""
+    INVALID_ID: int
+    def __init__(self, nthreads: int = 0, accel: str = "bvh8") -> None:
+        """nthreads for refits (0: one per core); accel: the structure's spec string."""
+    @overload
+    def add_triangles(self, vertex_positions: _Input, triangle_indices: _Input) -> int:
+        """vertex_positions (V, 3) floats, triangle_indices (T, 3) ints -> the new geometry id (0, 1, ...)."""
+    @overload
+    def add_triangles(self, mesh: Union[Scene, Any]) -> int:
+        """A thicket.Scene of triangles or an Open3D t.geometry.TriangleMesh -> the new geometry id."""
+    def set_vertices(self, geometry_id: int, vertex_positions: _Input) -> None:
+        """(N, 3) floats, N the geometry's vertex count; the next query or refit() updates the structure."""
+    def refit(self) -> None:
+        """Brings the structure up to date now (refit, or a rebuild for a structure that cannot refit)."""
+    def cast_rays(self, rays: _Input, nthreads: int = 0) -> _SceneCast:
+        """rays float32 (..., 6) or (..., 8) -> closest hits, each array of the rays' leading shape."""
+    def test_occlusions(self, rays: _Input, tnear: float = 0.0, tfar: float = ..., nthreads: int = 0) -> _Answer[np.bool_]:
+        """rays float32 (..., 6) -> bool (...); tfar defaults to inf."""
+    def count_intersections(self, rays: _Input, nthreads: int = 0) -> _Answer[np.int32]:
+        """rays float32 (..., 6) -> int32 (...)."""
+    def list_intersections(self, rays: _Input, nthreads: int = 0) -> _SceneIntersections:
+        """rays float32 (..., 6), N of them in row order -> every crossing, sorted by t per ray."""
+    def compute_closest_points(self, query_points: _Input, nthreads: int = 0) -> _SceneClosest:
+        """query_points float32 (..., 3)."""
+    def compute_distance(self, query_points: _Input, nthreads: int = 0) -> _Answer[np.float32]:
+        """query_points float32 (..., 3) -> float32 (...)."""
+    def compute_signed_distance(self, query_points: _Input, nthreads: int = 0, nsamples: int = 1) -> _Answer[np.float32]:
+        """query_points float32 (..., 3) -> float32 (...), negative inside."""
+    def compute_occupancy(self, query_points: _Input, nthreads: int = 0, nsamples: int = 1) -> _Answer[np.float32]:
+        """query_points float32 (..., 3) -> float32 (...), 1 inside and 0 outside."""
+    @overload
+    @staticmethod
+    def create_rays_pinhole(fov_deg: float, center: _Vector3, eye: _Vector3, up: _Vector3,
+                            width_px: int, height_px: int) -> _Answer[np.float32]:
+        """float32 (height_px, width_px, 6), as thicket.create_rays_pinhole."""
+    @overload
+    @staticmethod
+    def create_rays_pinhole(intrinsic_matrix: _Input, extrinsic_matrix: _Input, width_px: int,
+                            height_px: int) -> _Answer[np.float32]:
+        """intrinsic (3, 3), extrinsic (4, 4) world to camera -> float32 (height_px, width_px, 6)."""
 
 def load_scene(path: _Path) -> Scene:
     """A PLY, OBJ, glTF or JSON scene file, or a built-in name ('cornell', 'teapot-patches')."""

@@ -84,6 +84,12 @@ def main(argv):
             sys.exit(f"the example's loaded structure did not print its bvh8 spec:\n{out}")
         expect(out, "t_hit", BACK_WALL_T, 1)
         expect(out, "distance", RIGHT_WALL_DISTANCE, 1)
+        # RaycastingScene: the triangle added second (geometry 1, its triangle 0) at z = 2, then 1,
+        # in front of the back wall.
+        expect(out, "geometry", 1, 1)
+        expect(out, "triangle", 0, 1)
+        expect(out, "own t", 1.0, 1)
+        expect(out, "moved t", 2.0, 1)
         return
     sys.exit(__doc__)
 
