@@ -42,6 +42,13 @@ Scene geometry_scene(const Scene& scene, uint32_t geometry) {
     return out;
 }
 
+std::unique_ptr<Accel> build_instanced(const Scene& scene, const AccelSpec& bottom) {
+    auto prototypes = std::make_shared<Scene>(scene);
+    prototypes->instances.clear();
+    prototypes->instance_first.clear();
+    return std::make_unique<InstancedAccel>(std::move(prototypes), scene.instances, bottom.str(), bottom.threads);
+}
+
 Scene flatten_instances(const Scene& prototypes, const std::vector<Instance>& instances) {
     Scene out;
     out.name = prototypes.name + " (flattened)";
@@ -85,7 +92,7 @@ InstancedAccel::InstancedAccel(std::shared_ptr<const Scene> prototypes, std::vec
     bottoms_.resize(prototypes_->geometry_count());
     for (const Instance& inst : instances_) build_bottom(inst.geometry, threads);
     build_top();
-    set_origin("instances(" + bottom_spec_ + ")", 0.0);
+    set_origin(bottom_spec_, 0.0);
 }
 
 void InstancedAccel::build_bottom(uint32_t geometry, unsigned threads) {
@@ -94,16 +101,29 @@ void InstancedAccel::build_bottom(uint32_t geometry, unsigned threads) {
 }
 
 uint32_t InstancedAccel::add_instance(const Instance& instance) {
-    std::vector<Instance> grown = instances_;
-    grown.push_back(instance);
-    std::vector<Affine> inverses;
-    std::vector<uint64_t> flat_first;
-    check_instances(grown, inverses, flat_first);
+    // Only the new instance is checked (the others were), so that adding n costs O(n) checks.
+    const std::string what = "instance " + std::to_string(instances_.size());
+    if (instance.geometry >= prototypes_->geometry_count())
+        throw Error(what + ": scene '" + prototypes_->name + "' has no geometry " + std::to_string(instance.geometry) +
+                    " (it has " + std::to_string(prototypes_->geometry_count()) + ")");
+    const Affine inverse = checked_inverse(instance.transform, what);
+    const uint64_t end = flat_first_.back() + prototypes_->geometry(instance.geometry).count;
+    if (end >= kNoPrim)
+        throw Error(what + ": the instances would hold " + std::to_string(end) + " primitives in all; at most " +
+                    std::to_string(kNoPrim - 1) + " can be told apart by a hit's 32-bit primitive id");
     build_bottom(instance.geometry, 0);
-    instances_ = std::move(grown);
-    inverses_ = std::move(inverses);
-    flat_first_ = std::move(flat_first);
-    build_top();
+    instances_.push_back(instance);
+    inverses_.push_back(inverse);
+    flat_first_.push_back(end);
+    try {
+        build_top();
+    } catch (...) {
+        instances_.pop_back();
+        inverses_.pop_back();
+        flat_first_.pop_back();
+        build_top();
+        throw;
+    }
     return uint32_t(instances_.size() - 1);
 }
 
@@ -111,9 +131,19 @@ void InstancedAccel::set_transform(uint32_t id, const Affine& transform) {
     if (id >= instances_.size())
         throw Error("set_transform: no instance " + std::to_string(id) + " (there are " +
                     std::to_string(instances_.size()) + ")");
-    inverses_[id] = checked_inverse(transform, "instance " + std::to_string(id));
+    const Affine inverse = checked_inverse(transform, "instance " + std::to_string(id));
+    const Instance before = instances_[id];
+    const Affine inverse_before = inverses_[id];
+    inverses_[id] = inverse;
     instances_[id].transform = transform;
-    build_top();
+    try {
+        build_top();
+    } catch (...) {  // a transform that carries the geometry beyond float range
+        instances_[id] = before;
+        inverses_[id] = inverse_before;
+        build_top();
+        throw;
+    }
 }
 
 void InstancedAccel::build_top() {
@@ -322,6 +352,7 @@ AccelStats InstancedAccel::stats() const {
     s.bytes += nodes_.size() * sizeof(Node) + order_.size() * sizeof(uint32_t) +
                instances_.size() * (2 * sizeof(Affine) + sizeof(Aabb) + sizeof(uint64_t) + sizeof(Instance));
     s.extra.emplace_back(kSahUndefinedKey, "two levels: each bottom level has its own SAH cost");
+    s.extra.emplace_back("instanced", "two levels: a top-level BVH over the instances, this spec below");
     s.extra.emplace_back("instances", std::to_string(instances_.size()));
     s.extra.emplace_back("geometries instanced", std::to_string(geometries));
     s.extra.emplace_back("unique primitives", std::to_string(unique_primitives()));

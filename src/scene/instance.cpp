@@ -4,8 +4,10 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <vector>
 
 #include "thicket/core/error.h"
+#include "thicket/scene/scene.h"
 
 namespace thicket {
 
@@ -97,6 +99,75 @@ Aabb transform_box(const Affine& t, const Aabb& box) {
     out.min = out.min - Vec3(pad);
     out.max = out.max + Vec3(pad);
     return out;
+}
+
+Vec3 InstancePlace::to_world(Vec3 n, bool winding) const {
+    if (!placed || n == Vec3{}) return n;
+    Vec3 w = inverse.transposed_vector(n);
+    if (winding && mirrored) w = -w;
+    const float len = length(w);
+    if (!(len > 0.0f) || !std::isfinite(len)) return Vec3{};
+    return w / len;
+}
+
+bool place_instanced_hit(const Scene& scene, const Ray& ray, const Hit& hit, InstancePlace& place) {
+    if (scene.instance_first.size() != scene.instances.size() + 1)
+        throw Error("scene '" + scene.name + "': its instances were not added with Scene::add_instance");
+    if (!hit.found() || hit.prim >= scene.instanced_primitive_count()) return false;
+    const auto it = std::upper_bound(scene.instance_first.begin(), scene.instance_first.end(), uint64_t(hit.prim));
+    const size_t i = size_t(it - scene.instance_first.begin()) - 1;
+    const Instance& inst = scene.instances[i];
+    place.placed = true;
+    place.inverse = checked_inverse(inst.transform, "instance " + std::to_string(i));
+    place.mirrored = transform_determinant(inst.transform) < 0.0;
+    place.ray = ray;
+    place.ray.org = place.inverse.point(ray.org);
+    place.ray.dir = place.inverse.vector(ray.dir);
+    place.hit = hit;
+    place.hit.prim = scene.geometry(inst.geometry).first + uint32_t(hit.prim - scene.instance_first[i]);
+    return true;
+}
+
+Aabb instanced_bounds(const Scene& scene) {
+    // Each geometry's own bounds once, then each instance's image of them.
+    std::vector<Aabb> geometry_bounds(scene.geometry_count());
+    std::vector<uint8_t> known(scene.geometry_count(), 0);
+    Aabb out;
+    for (const Instance& inst : scene.instances) {
+        if (inst.geometry >= geometry_bounds.size()) continue;
+        if (!known[inst.geometry]) {
+            const Geometry g = scene.geometry(inst.geometry);
+            Aabb b;
+            for (uint32_t p = g.first; p < g.first + g.count; ++p) {
+                const PrimRef ref = scene.locate(p);
+                if (ref.shape) {
+                    b.grow(shape_bounds(scene.shapes[ref.index]));
+                } else {
+                    for (int c = 0; c < 3; ++c) b.grow(scene.mesh.vertex(ref.index, c));
+                }
+            }
+            geometry_bounds[inst.geometry] = b;
+            known[inst.geometry] = 1;
+        }
+        out.grow(transform_box(inst.transform, geometry_bounds[inst.geometry]));
+    }
+    return out;
+}
+
+uint32_t Scene::add_instance(uint32_t geometry_id, const Affine& transform) {
+    const std::string what = "scene '" + name + "': instance " + std::to_string(instances.size());
+    if (geometry_id >= geometry_count())
+        throw Error(what + ": no geometry " + std::to_string(geometry_id) + " (the scene has " +
+                    std::to_string(geometry_count()) + ")");
+    checked_inverse(transform, what);
+    if (instance_first.empty()) instance_first.push_back(0);
+    const uint64_t end = instance_first.back() + geometry(geometry_id).count;
+    if (end >= kNoPrim)
+        throw Error(what + ": the instances would hold " + std::to_string(end) + " primitives, more than the " +
+                    std::to_string(kNoPrim - 1) + " a hit's 32-bit primitive id tells apart");
+    instance_first.push_back(end);
+    instances.push_back({geometry_id, transform});
+    return uint32_t(instances.size() - 1);
 }
 
 }  // namespace thicket

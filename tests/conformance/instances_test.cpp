@@ -251,6 +251,10 @@ TEST(InstanceRefusals, NearSingularAndNonFiniteTransformsAreRefused) {
     InstancedAccel accel(prototypes(), instances(), "bvh");
     EXPECT_THROW(accel.set_transform(2, flat_z), Error);
     EXPECT_THROW(accel.set_transform(99, Affine{}), Error);
+    // Well conditioned but carrying the sphere past float's range: refused, the old one kept.
+    EXPECT_THROW(accel.set_transform(1, affine({1e38f, 0, 0, 3e38f, 0, 1e38f, 0, 0, 0, 0, 1e38f, 0})), Error);
+    EXPECT_THROW(accel.add_instance({1, affine({1e38f, 0, 0, 3e38f, 0, 1e38f, 0, 0, 0, 0, 1e38f, 0})}), Error);
+    EXPECT_EQ(accel.instances().size(), instances().size());
     const Scene flat = flatten_instances(accel.prototypes(), accel.instances());
     EXPECT_EQ(check_against_flattened(accel, rays_for(flat, 200)), "");
 }

@@ -9,7 +9,9 @@
 /// interface a hit's `prim` is its id in the flattened scene (flatten_instances(): every
 /// instance's primitives, instance by instance, in geometry order), so every query, batch, bench
 /// and agreement check of Accel works unchanged; locate() turns such an id into the instance, the
-/// geometry and the primitive within the geometry (Hit keeps its 16-byte layout).
+/// geometry and the primitive within the geometry (Hit keeps its 16-byte layout). Its spec() is
+/// the bottom level's, so that whatever reads a structure's spec reads the one that was asked
+/// for; stats().extra says it is instanced.
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -17,6 +19,7 @@
 #include <vector>
 
 #include "thicket/accel/accel.h"
+#include "thicket/accel/registry.h"
 #include "thicket/scene/instance.h"
 #include "thicket/scene/scene.h"
 
@@ -101,6 +104,10 @@ private:
     std::vector<uint32_t> order_;
     std::vector<Node> nodes_;
 };
+
+/// What build_accel() builds over a scene with instances: an InstancedAccel over a copy of the
+/// scene without them (the prototypes) and its instances, `bottom` the bottom level's spec.
+std::unique_ptr<Accel> build_instanced(const Scene& scene, const AccelSpec& bottom);
 
 /// The flattened scene: every instance's geometry with the transform applied to its vertices,
 /// instance by instance, one geometry each (shapes are refused with Error: a transformed sphere is

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "thicket/core/aabb.h"
+#include "thicket/core/ray.h"
 
 namespace thicket {
 
@@ -60,5 +61,28 @@ struct Instance {
     uint32_t geometry = 0;
     Affine transform;
 };
+
+struct Scene;
+
+/// A hit of a scene with instances taken back to its prototype: the instance, the ray in the
+/// instance's space and the hit with the prototype scene's primitive id. Default-constructed it
+/// stands for no instance, and to_world() returns a normal unchanged.
+struct InstancePlace {
+    bool placed = false;
+    Affine inverse;
+    bool mirrored = false;
+    Ray ray;
+    Hit hit;
+    /// The world normal of the object-space unit normal `n`: carried by the inverse transpose,
+    /// and for a triangle's winding-order normal (`winding`) flipped when the transform mirrors.
+    Vec3 to_world(Vec3 n, bool winding) const;
+};
+
+/// Bounds of every instance of `scene` in the world (Scene::bounds() of a scene with instances).
+Aabb instanced_bounds(const Scene& scene);
+
+/// Fills `place` for `hit` of the world ray `ray` on `scene` (which has instances; hit.prim a
+/// flattened id); false for a miss or an id past the instances' primitives.
+bool place_instanced_hit(const Scene& scene, const Ray& ray, const Hit& hit, InstancePlace& place);
 
 }  // namespace thicket
