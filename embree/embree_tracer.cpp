@@ -195,7 +195,7 @@ public:
                 rtcIntersect1(scene, &context, &rh);
                 const bool found = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
                 // An instance's hit names the flattened id, as Thicket's instanced structure does.
-                const uint32_t prim = instance_first_.empty()
+                const uint32_t prim = !found || instance_first_.empty()
                                           ? rh.hit.primID
                                           : uint32_t(instance_first_[rh.hit.instID[0]] + rh.hit.primID);
                 hits[i] = found ? Hit{rh.ray.tfar, rh.hit.u, rh.hit.v, prim} : Hit{};

@@ -229,7 +229,8 @@ Hit InstancedAccel::closest(const Ray& ray, C& counters) const {
     stack[top++] = {0, ray_box_entry(q, nodes_[0].box, ray.tmin, ray.tmax)};
     while (top > 0) {
         const Entry e = stack[--top];
-        if (e.t > best.t) continue;  // also drops +inf (a missed box)
+        // A missed box enters at +inf, which is not beyond an unbounded ray's best.t (+inf).
+        if (e.t == kInfinity || e.t > best.t) continue;
         const Node& node = nodes_[e.node];
         counters.node();
         if (node.count > 0) {

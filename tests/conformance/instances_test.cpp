@@ -274,6 +274,20 @@ TEST(InstanceUpdates, SetTransformRebuildsOnlyTheTopLevel) {
     EXPECT_EQ(check_against_flattened(accel, rays_for(flat, 400)), "");
 }
 
+TEST(InstanceUpdates, RaysVisitOnlyTheBoxesTheyEnter) {
+    // A row of 200 spheres along x; unbounded rays (tmax = +inf) that miss the row, and one
+    // along it that enters every box: the first must visit nothing, and one across the row
+    // must visit about a path down the top level, not the whole of it.
+    std::vector<Instance> row;
+    for (int i = 0; i < 200; ++i) row.push_back({0, affine({1, 0, 0, 3.0f * float(i), 0, 1, 0, 0, 0, 0, 1, 0})});
+    const InstancedAccel accel(prototypes(), row, "bvh");
+    RayCounters beside, across;
+    EXPECT_FALSE(accel.intersect(Ray{{0.0f, 5.0f, 0.0f}, 0.0f, {1.0f, 0.0f, 0.0f}}, beside).found());
+    EXPECT_EQ(beside.nodes, 0u);
+    EXPECT_TRUE(accel.intersect(Ray{{300.0f, 0.5f, -5.0f}, 0.0f, {0.0f, 0.0f, 1.0f}}, across).found());
+    EXPECT_LT(across.nodes, 100u);  // the top level alone has 399 nodes
+}
+
 TEST(InstanceUpdates, MemoryFollowsUniqueGeometry) {
     std::vector<Instance> many;
     for (int i = 0; i < 200; ++i)
