@@ -116,7 +116,9 @@ public:
         const auto start = std::chrono::steady_clock::now();
         scene_ = rtcNewScene(device_);
         rtcSetSceneBuildQuality(scene_, quality);
-        if (primitives_ > 0) {
+        if (!scene.instances.empty()) {
+            attach_instances(scene, quality);
+        } else if (primitives_ > 0) {
             RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
             rtcSetGeometryBuildQuality(geometry, geometry_quality);
             rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices_.data(), 0,
@@ -139,6 +141,7 @@ public:
     double refit(const Scene& scene, unsigned) override {
         if (quality_ != EmbreeQuality::Refit) return Tracer::refit(scene, 0);
         get();
+        if (!instance_first_.empty()) throw Error(name() + " refit: an instanced scene is not refitted here");
         if (scene.mesh.triangle_count() != primitives_ || 3 * scene.mesh.positions.size() + 1 != vertices_.size())
             throw Error(name() + " refit: " + scene.name + " has another topology than the build's");
         const auto start = std::chrono::steady_clock::now();
@@ -169,6 +172,7 @@ public:
             f.spec += isa;
             f.spec += " (THICKET_ISA)";
         }
+        if (!instance_first_.empty()) f.spec += ", instances (RTC_GEOMETRY_TYPE_INSTANCE)";
         f.primitives = primitives_;
         f.bytes = bytes_;
         f.structure_bytes = bytes_;  // Embree's leaves hold the triangles: not separable
@@ -190,7 +194,11 @@ public:
                 rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
                 rtcIntersect1(scene, &context, &rh);
                 const bool found = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-                hits[i] = found ? Hit{rh.ray.tfar, rh.hit.u, rh.hit.v, rh.hit.primID} : Hit{};
+                // An instance's hit names the flattened id, as Thicket's instanced structure does.
+                const uint32_t prim = !found || instance_first_.empty()
+                                          ? rh.hit.primID
+                                          : uint32_t(instance_first_[rh.hit.instID[0]] + rh.hit.primID);
+                hits[i] = found ? Hit{rh.ray.tfar, rh.hit.u, rh.hit.v, prim} : Hit{};
             }
         });
         check();
@@ -250,7 +258,56 @@ private:
         if (!log_->first_error.empty()) throw Error(name() + ": " + log_->first_error);
     }
 
+    /// Embree's two-level instancing (RTC_GEOMETRY_TYPE_INSTANCE) for a scene with instances: one
+    /// child scene per geometry some instance uses, over our shared copies of its vertices (the
+    /// buffer offset at its first vertex) and of its indices made relative to that vertex; one
+    /// instance geometry per instance, its id the instance's, with the 3x4 row-major transform.
+    void attach_instances(const Scene& scene, RTCBuildQuality quality) {
+        instance_first_ = scene.instance_first;
+        primitives_ = size_t(scene.instanced_primitive_count());
+        for (size_t g = 0; g < scene.geometry_count(); ++g) {
+            const Geometry geo = scene.geometry(uint32_t(g));
+            if (geo.count == 0) continue;
+            const size_t tri = scene.locate(geo.first).index;
+            for (size_t k = 3 * tri; k < 3 * (tri + geo.count); ++k) indices_[k] -= geo.vertex_first;
+        }
+        children_.assign(scene.geometry_count(), nullptr);
+        for (size_t i = 0; i < scene.instances.size(); ++i) {
+            const Instance& inst = scene.instances[i];
+            RTCScene& child = children_[inst.geometry];
+            if (!child) {
+                const Geometry geo = scene.geometry(inst.geometry);
+                child = rtcNewScene(device_);
+                rtcSetSceneBuildQuality(child, quality);
+                if (geo.count > 0) {
+                    const size_t tri = scene.locate(geo.first).index;
+                    RTCGeometry mesh = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+                    rtcSetGeometryBuildQuality(mesh, quality);
+                    rtcSetSharedGeometryBuffer(mesh, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices_.data(),
+                                               3 * sizeof(float) * geo.vertex_first, 3 * sizeof(float),
+                                               geo.vertex_count);
+                    rtcSetSharedGeometryBuffer(mesh, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, indices_.data(),
+                                               3 * sizeof(uint32_t) * tri, 3 * sizeof(uint32_t), geo.count);
+                    rtcCommitGeometry(mesh);
+                    rtcAttachGeometryByID(child, mesh, 0);
+                    rtcReleaseGeometry(mesh);
+                }
+                rtcCommitScene(child);
+            }
+            RTCGeometry placed = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
+            rtcSetGeometryInstancedScene(placed, child);
+            rtcSetGeometryTransform(placed, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &inst.transform.m[0][0]);
+            rtcCommitGeometry(placed);
+            rtcAttachGeometryByID(scene_, placed, unsigned(i));
+            rtcReleaseGeometry(placed);
+        }
+    }
+
     void release() {
+        for (RTCScene child : children_)
+            if (child) rtcReleaseScene(child);
+        children_.clear();
+        instance_first_.clear();
         if (scene_) rtcReleaseScene(scene_);
         if (device_) rtcReleaseDevice(device_);
         scene_ = nullptr;
@@ -267,6 +324,8 @@ private:
     std::vector<uint32_t> indices_;
     size_t primitives_ = 0;
     size_t bytes_ = 0;
+    std::vector<RTCScene> children_;        ///< per geometry of an instanced scene: its own scene, or null
+    std::vector<uint64_t> instance_first_;  ///< Scene::instance_first of an instanced scene; empty otherwise
 };
 
 }  // namespace

@@ -1,6 +1,7 @@
 // The registry: every structure is listed here by its register function, explicitly, so that
 // no static-initialisation trick can be dropped by the linker.
 #include "thicket/accel/registry.h"
+#include "thicket/accel/instances.h"
 
 #include <algorithm>
 #include <chrono>
@@ -250,7 +251,8 @@ std::unique_ptr<Accel> build_accel(const AccelSpec& parsed, const Scene& scene, 
     AccelSpec spec = parsed;
     spec.threads = threads;
     const auto start = std::chrono::steady_clock::now();
-    std::unique_ptr<Accel> accel = parsed.info->build(scene, spec);
+    // A scene with instances is two levels: the spec is the bottom level's (accel/instances.h).
+    std::unique_ptr<Accel> accel = scene.instances.empty() ? parsed.info->build(scene, spec) : build_instanced(scene, spec);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     accel->set_origin(spec.str(), ms);
     return accel;

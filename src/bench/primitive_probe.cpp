@@ -23,6 +23,23 @@ std::function<Hit(uint32_t, const Ray&)> probe_of(Prims prims) {
 }  // namespace
 
 PrimitiveProbe::PrimitiveProbe(const Scene& scene, const std::string& isect) : count_(scene.primitive_count()) {
+    if (!scene.instances.empty()) {
+        // Flattened ids: the prototype's primitive, probed with the ray in its instance's space,
+        // as the instanced structure tests it (accel/instances.h), so the answers are the same bits.
+        auto prototypes = std::make_shared<Scene>(scene);
+        prototypes->instances.clear();
+        prototypes->instance_first.clear();
+        auto inner = std::make_shared<const PrimitiveProbe>(*prototypes, isect);
+        count_ = size_t(scene.instanced_primitive_count());
+        hit_ = [prototypes, inner, &scene](uint32_t prim, const Ray& ray) {
+            InstancePlace place;
+            if (!place_instanced_hit(scene, ray, Hit{0.0f, 0.0f, 0.0f, prim}, place)) return Hit{};
+            Hit h = inner->hit(place.hit.prim, place.ray);
+            if (h.found()) h.prim = prim;
+            return h;
+        };
+        return;
+    }
     const bool watertight = isect == "watertight";
     if (scene.has_shapes()) {
         const auto& [mesh, shapes, runs, name] = std::tie(scene.mesh, scene.shapes, scene.runs, scene.name);

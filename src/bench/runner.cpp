@@ -204,7 +204,8 @@ std::vector<BenchRow> bench_scene(const Scene& scene, const std::string& label, 
 
                 BenchRow row;
                 row.scene = label;
-                row.primitives = scene.primitive_count();
+                row.primitives = scene.instances.empty() ? scene.primitive_count()
+                                                         : size_t(scene.instanced_primitive_count());
                 row.shapes = scene.shapes.size();
                 row.accel = factory->name;
                 row.spec = fig.spec;

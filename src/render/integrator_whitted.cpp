@@ -33,7 +33,9 @@ public:
         const Scene& scene = *rs.scene;
         std::vector<WhittedLight> by_material(rs.materials.size());
         std::vector<Vec3> weighted_centre(rs.materials.size()), weighted_normal(rs.materials.size());
-        for (uint32_t p = 0; p < scene.primitive_count(); ++p) {
+        // With instances the prototypes' positions are not the world's: emissive instanced
+        // surfaces are seen where rays hit them, not made into lights (as LightSet does).
+        for (uint32_t p = 0; scene.instances.empty() && p < scene.primitive_count(); ++p) {
             const SurfaceMaterial& m = rs.material(p);
             if (!m.emissive()) continue;
             const PrimRef ref = scene.locate(p);

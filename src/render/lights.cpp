@@ -64,9 +64,12 @@ void check_emitters(const RenderScene& rs) {
 LightSet::LightSet(const RenderScene& rs) {
     check_emitters(rs);
     const Scene& scene = *rs.scene;
-    light_of_prim_.assign(scene.primitive_count(), kNoPrim);
+    // With instances, hits carry flattened ids and the prototypes' positions are not the world's:
+    // emissive instanced surfaces are seen where rays hit them but not sampled as lights.
+    const uint32_t sampled = scene.instances.empty() ? uint32_t(scene.primitive_count()) : 0;
+    light_of_prim_.assign(sampled, kNoPrim);
     std::vector<double> power;
-    for (uint32_t p = 0; p < scene.primitive_count(); ++p) {
+    for (uint32_t p = 0; p < sampled; ++p) {
         const SurfaceMaterial& m = rs.material(p);
         if (!m.emissive()) continue;
         const PrimRef ref = scene.locate(p);

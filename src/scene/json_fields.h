@@ -74,6 +74,13 @@ struct ShapeParser {
 /// Every shape type the JSON format knows, in documentation order (json_shapes.cpp).
 std::span<const ShapeParser> shape_parsers();
 
+/// Adds the top-level "instances" array to `scene` (json_instances.cpp): each {"shape": N,
+/// "transform": [12 or 16 numbers]} places the geometry entry N of "shapes" made
+/// (`entry_prims[N]` its first primitive, entry_prims holding one entry more than there are
+/// shapes). Errors name the file and the JSON path (instances[3].transform[5]).
+void parse_instances(const nlohmann::json& instances, const std::string& path, const std::vector<uint32_t>& entry_prims,
+                     Scene& scene);
+
 /// A JSON value for an error message, shortened.
 std::string describe(const nlohmann::json& v);
 /// A number for an error message (%g).

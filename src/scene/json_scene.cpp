@@ -298,11 +298,11 @@ Scene load_json_scene(const std::string& path, std::vector<uint32_t>& entry_prim
 
     if (!doc.is_object()) throw Error(path + ": a JSON scene must be an object with a \"shapes\" array");
     for (const auto& [key, v] : doc.items()) {
-        bool ok = key == "shapes";
+        bool ok = key == "shapes" || key == "instances";
         for (const char* r : kReservedTopLevel) ok = ok || key == r;
         if (!ok)
             throw Error(path + ": unknown top-level key '" + key +
-                        "' (allowed: 'shapes', and 'camera', 'materials', 'lights', reserved for the renderer)");
+                        "' (allowed: 'shapes', 'instances', and 'camera', 'materials', 'lights', reserved for the renderer)");
     }
     if (!doc.contains("shapes")) throw Error(path + ": missing top-level key 'shapes' (an array of shapes)");
     const json& shapes = doc.at("shapes");
@@ -338,6 +338,7 @@ Scene load_json_scene(const std::string& path, std::vector<uint32_t>& entry_prim
         }
     }
     entry_prims.push_back(uint32_t(scene.primitive_count()));
+    if (doc.contains("instances")) parse_instances(doc.at("instances"), path, entry_prims, scene);
     return scene;
 }
 

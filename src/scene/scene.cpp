@@ -55,6 +55,7 @@ uint64_t Scene::fingerprint() const {
 }
 
 Aabb Scene::bounds() const {
+    if (!instances.empty()) return instanced_bounds(*this);
     Aabb b = mesh.bounds();
     for (const Shape& s : shapes) b.grow(shape_bounds(s));
     return b;
@@ -71,15 +72,21 @@ Vec3 Scene::geometric_normal(uint32_t prim) const {
     return cross(b - a, c - a);
 }
 
-Vec3 Scene::normal(const Ray& ray, const Hit& hit) const {
+Vec3 Scene::normal(const Ray& world_ray, const Hit& world_hit) const {
+    // With instances, hit.prim is a flattened id: the prototype's normal in its instance's space
+    // is found as without them, then carried to the world (instance.h).
+    InstancePlace place;
+    if (!instances.empty() && !place_instanced_hit(*this, world_ray, world_hit, place)) return Vec3{};
+    const Ray& ray = instances.empty() ? world_ray : place.ray;
+    const Hit& hit = instances.empty() ? world_hit : place.hit;
     if (hit.prim >= primitive_count()) return Vec3{};
     const PrimRef ref = locate(hit.prim);
-    if (ref.shape) return shape_normal(shapes[ref.index], ray.org + ray.dir * hit.t, hit.u, hit.v);
+    if (ref.shape) return place.to_world(shape_normal(shapes[ref.index], ray.org + ray.dir * hit.t, hit.u, hit.v), false);
     // As float as it always was, so the ray sets and images of triangle scenes keep their bits.
     const Vec3 n = geometric_normal(hit.prim);
     const float len = length(n);
     if (!(len > 0.0f) || !std::isfinite(len)) return Vec3{};  // zero-area triangle: no direction
-    return n / len;
+    return place.to_world(n / len, true);
 }
 
 namespace {

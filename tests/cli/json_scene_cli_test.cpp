@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -150,6 +151,44 @@ TEST_F(JsonSceneCli, BadSceneNamesShapeAndFieldAndWritesNothing) {
     EXPECT_EQ(r.code, 1) << r.output;
     EXPECT_NE(r.output.find("shape 1 (julia): field 'iterations': must be an integer"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(dir_ / "out.png"));
+}
+
+}  // namespace
+
+namespace {
+
+/// Instances: `info` counts geometries, instances, unique and instanced primitives; `bench` and
+/// `render` take the scene (the bench's Embree rows trace Embree's own instances, and every
+/// structure must agree with them on the shadow rays, which start on surfaces).
+class InstancedSceneCli : public thicket::testing::CliDirTest {
+protected:
+    void SetUp() override {
+        CliDirTest::SetUp();
+        if (IsSkipped()) return;
+        write("quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
+        write("scene.json", R"({"shapes": [{"type": "mesh", "file": "quad.obj"}],
+            "instances": [{"shape": 0, "transform": [4,0,0,-2, 0,0,1,0, 0,-4,0,2]},
+                          {"shape": 0, "transform": [1,0,0,0, 0,1,0,0, 0,0,1,0]},
+                          {"shape": 0, "transform": [-1,0.5,0,1, 0,1,0,0, 0,0,1,0.5]}]})");
+    }
+};
+
+TEST_F(InstancedSceneCli, InfoCountsInstancesAndBenchAndRenderTakeThem) {
+    const auto info = run_thicket("info " + q("scene.json"));
+    ASSERT_EQ(info.code, 0) << info.output;
+    EXPECT_NE(info.output.find("geometries           1\n"), std::string::npos) << info.output;
+    EXPECT_NE(info.output.find("instances            3, placing 1 of the geometries"), std::string::npos) << info.output;
+    EXPECT_NE(info.output.find("unique primitives    2 "), std::string::npos) << info.output;
+    EXPECT_NE(info.output.find("instanced primitives 6 "), std::string::npos) << info.output;
+    const auto render = run_thicket("render " + q("scene.json") + " --size 32x24 -o " + q("out.png"));
+    ASSERT_EQ(render.code, 0) << render.output;
+    const auto bench = run_thicket("bench " + q("scene.json") + " -a bvh --sets primary,shadow --size 32x24 --reps 1");
+    ASSERT_EQ(bench.code, 0) << bench.output;
+    // Agreement with Embree's instanced scene: a row that differs shows "99.x (N)".
+    EXPECT_FALSE(std::regex_search(bench.output, std::regex(R"(\d\.\d+ \(\d+\))"))) << bench.output;
+    if (bench.output.find("built without") == std::string::npos) {
+        EXPECT_NE(bench.output.find("embree-high"), std::string::npos) << bench.output;
+    }
 }
 
 }  // namespace

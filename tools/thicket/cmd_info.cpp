@@ -17,6 +17,25 @@ struct InfoArgs {
     unsigned threads = 0;
 };
 
+/// Geometries, and for a scene with instances how many there are and how much they repeat.
+void print_instances(const Scene& scene) {
+    std::printf("  geometries           %zu\n", scene.geometry_count());
+    if (scene.instances.empty()) return;
+    std::vector<uint8_t> used(scene.geometry_count(), 0);
+    size_t unique = 0, geometries = 0;
+    for (const Instance& inst : scene.instances)
+        if (!used[inst.geometry]) {
+            used[inst.geometry] = 1;
+            ++geometries;
+            unique += scene.geometry(inst.geometry).count;
+        }
+    std::printf("  instances            %zu, placing %zu of the geometries (one no instance places is not drawn)\n",
+                scene.instances.size(), geometries);
+    std::printf("  unique primitives    %zu (held once, whatever the instances)\n", unique);
+    std::printf("  instanced primitives %llu (what the instances place: the flattened scene)\n",
+                static_cast<unsigned long long>(scene.instanced_primitive_count()));
+}
+
 void print_scene(const Scene& scene) {
     const TriangleMesh& m = scene.mesh;
     size_t zero_area = 0;
@@ -47,6 +66,7 @@ void print_scene(const Scene& scene) {
         std::printf("  primitives           %zu (ids in file order: triangles and shapes interleaved)\n",
                     scene.primitive_count());
     }
+    print_instances(scene);
     if (b.empty()) {
         std::printf("  bounds               empty\n");
     } else {

@@ -2,6 +2,7 @@
 /// What the light-transport integrators need beyond the geometry: a material for every
 /// primitive, the point lights, and the scene's own camera when it has one. The geometry stays in
 /// the Scene (and the Accel built over it); this only points at it.
+#include <algorithm>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -26,8 +27,18 @@ struct RenderScene {
     std::vector<PointLight> point_lights;
     std::optional<Camera> camera;             ///< the scene's own view, if it has one
 
-    /// The material of primitive `prim` (< scene->primitive_count()).
-    const SurfaceMaterial& material(uint32_t prim) const { return materials[prim_material[prim]]; }
+    /// The material of primitive `prim` (< scene->primitive_count(); in a scene with instances a
+    /// flattened id, whose prototype primitive's material it is).
+    const SurfaceMaterial& material(uint32_t prim) const {
+        if (scene && !scene->instances.empty()) prim = prototype_prim(prim);
+        return materials[prim_material[prim]];
+    }
+    /// The prototype scene's id of the flattened id `prim` (< scene->instanced_primitive_count()).
+    uint32_t prototype_prim(uint32_t prim) const {
+        const std::vector<uint64_t>& first = scene->instance_first;
+        const size_t i = size_t(std::upper_bound(first.begin(), first.end(), uint64_t(prim)) - first.begin()) - 1;
+        return scene->geometry(scene->instances[i].geometry).first + uint32_t(prim - first[i]);
+    }
 };
 
 /// Materials for `scene`: each triangle's mesh material mapped by surface_from_material(), every

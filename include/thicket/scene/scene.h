@@ -17,6 +17,7 @@
 #include "thicket/core/ray.h"
 #include "thicket/geometry/mesh.h"
 #include "thicket/geometry/prim_runs.h"
+#include "thicket/scene/instance.h"
 #include "thicket/prims/shapes.h"
 
 namespace thicket {
@@ -44,16 +45,29 @@ struct Scene {
     /// shapes directly is valid.
     std::vector<Geometry> geometries;
 
+    /// Instances of the geometries (two-level instancing, accel/instances.h). Empty: the
+    /// geometries are the scene, as always. Otherwise the geometries are prototypes, drawn only
+    /// where instances place them: build_accel() builds an instanced structure (InstancedAccel)
+    /// whose hits' `prim` are flattened ids (flatten_instances()), which normal() understands.
+    /// Fill it with add_instance().
+    std::vector<Instance> instances;
+    /// instances.size() + 1 entries once there are instances: the flattened id of each instance's
+    /// first primitive, then the total (add_instance() keeps it).
+    std::vector<uint64_t> instance_first;
+
     size_t primitive_count() const { return mesh.triangle_count() + shapes.size(); }
     bool has_shapes() const { return !shapes.empty(); }
-    /// Bounds of every triangle and shape (empty box for an empty scene).
+    /// Bounds of every triangle and shape (empty box for an empty scene); with instances, of every
+    /// instance in the world (the prototypes where no instance places them are not drawn).
     Aabb bounds() const;
     /// The triangle or shape behind primitive id `prim` (< primitive_count()).
     PrimRef locate(uint32_t prim) const;
 
     /// Unit geometric normal at the hit `hit` of `ray` on primitive hit.prim: a triangle's face
     /// normal in its winding order, a shape's outward normal at ray.org + hit.t * ray.dir and the
-    /// hit's (u, v). The zero vector where none is defined (zero-area triangle, bad id).
+    /// hit's (u, v). The zero vector where none is defined (zero-area triangle, bad id). In a
+    /// scene with instances hit.prim is a flattened id and the normal the world one (the
+    /// prototype's carried by the inverse transpose, a triangle's flipped by a mirroring transform).
     Vec3 normal(const Ray& ray, const Hit& hit) const;
     /// Unnormalized face normal of a triangle primitive in its winding order; zero for a shape
     /// (use normal()).
@@ -78,6 +92,13 @@ struct Scene {
     /// Throws Error naming the scene and the geometry, leaving the scene unchanged, for an id out
     /// of range, a geometry without vertices (shapes), a wrong count or a non-finite coordinate.
     void set_vertices(uint32_t id, std::span<const Vec3> positions);
+
+    /// Appends an instance of geometry `geometry` under `transform`; returns its id. Throws Error
+    /// naming the scene and the instance for a geometry out of range or a transform that
+    /// checked_inverse() refuses (near-singular, non-finite), leaving the scene unchanged.
+    uint32_t add_instance(uint32_t geometry, const Affine& transform);
+    /// Primitives of every instance: the flattened scene's primitive count (0 without instances).
+    uint64_t instanced_primitive_count() const { return instance_first.empty() ? 0 : instance_first.back(); }
 
     /// Id of the geometry that holds primitive `prim`; kNoPrim for prim >= primitive_count()
     /// (a miss stays a miss).
