@@ -9,6 +9,8 @@
 
 #include <cctype>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <random>
 #include <string>
@@ -208,8 +210,29 @@ TEST_P(Refit, MovedGeneratedMeshMatchesBruteForce) {
         check_motion(GetParam(), base, m, "generated");
 }
 
+/// Whether the bunny's spatial-split variants run here: in a sanitized build their four builds
+/// over 69k triangles took 60-75 s each at -O1 (half the sanitizer job's refit time), for code
+/// that the generated and mixed scenes already run there; the Release job runs them, and so does
+/// THICKET_FULL=1 (`scripts/test --full`).
+bool bunny_in_sanitizer_scope(const std::string& spec) {
+#ifdef THICKET_SANITIZED
+    const char* full = std::getenv("THICKET_FULL");
+    const bool spatial = spec.find("sbvh") != std::string::npos || spec.find("quality=high") != std::string::npos;
+    return !spatial || (full && *full && std::string(full) != "0");
+#else
+    (void)spec;
+    return true;
+#endif
+}
+
 TEST_P(Refit, BentAndExplodedBunnyMatchesBruteForce) {
     if (shared_scene_dir().empty()) GTEST_SKIP() << shared_scenes_missing_message();
+    if (!bunny_in_sanitizer_scope(GetParam())) {
+        std::printf("[ scope    ] %s on the bunny: spatial splits left to the Release job in a sanitized build "
+                    "(THICKET_FULL=1 runs it here too)\n",
+                    GetParam().c_str());
+        return;
+    }
     const Scene& bunny = cached_scene(shared_scene_dir() + "/bunny.ply");
     for (Motion m : {Motion::Bend, Motion::Explode}) check_motion(GetParam(), bunny, m, "bunny");
 }
