@@ -82,6 +82,11 @@ struct Query {
         return false;
     }
 
+    /// A pushed node dropped when popped (the hit found since is nearer): told to a recorder.
+    void skipped(uint32_t n, float t_enter) {
+        if constexpr (RecordsSteps<C>) counters.record_skip(n, t_enter);
+    }
+
     bool is_leaf(uint32_t n) const { return bvh.nodes[n].is_leaf(); }
     uint32_t first_child(uint32_t n) const { return bvh.nodes[n].leftFirst; }
     bool leaf(uint32_t n) { return leaf(bvh.nodes[n]); }

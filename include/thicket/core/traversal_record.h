@@ -20,6 +20,7 @@ struct TraversalStep {
         Enter,  ///< a node's box (or a cell) the ray enters at `t`, within the query's interval
         Cull,   ///< a node whose box was tested and missed (or lies beyond the current hit): t is +inf
         Prim,   ///< a primitive tested: `id` is the primitive id, t is the closest hit after the test
+        Skip,   ///< a node entered at t earlier, dropped unvisited: the hit found since is nearer
     };
     Kind kind;
     uint32_t id;  ///< node or cell id in the structure's own numbering (Accel::for_each_node), or primitive id
@@ -44,6 +45,8 @@ struct TraversalRecorder {
     void record_node(uint32_t id, float t_enter) {
         add({t_enter == kInfinity ? TraversalStep::Kind::Cull : TraversalStep::Kind::Enter, id, t_enter});
     }
+    /// Node `id`, entered at t_enter and deferred, is dropped: a hit nearer than t_enter was found since.
+    void record_skip(uint32_t id, float t_enter) { add({TraversalStep::Kind::Skip, id, t_enter}); }
     /// Primitive `id` was tested; `closest` is the closest hit distance after the test.
     void record_prim(uint32_t id, float closest) { add({TraversalStep::Kind::Prim, id, closest}); }
 
