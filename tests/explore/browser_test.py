@@ -7,12 +7,14 @@ as `thicket explain` prints for that ray. Saves the screenshot next to the DOM (
 usage: browser_test.py THICKET SCENE OUTDIR
 Skips (GoogleTest's "[  SKIPPED ]" line, which ctest reports as a skip) only when chromium is absent.
 """
+import html as htmllib
 import json
 import os
 import re
 import shutil
 import subprocess
 import sys
+import urllib.request
 
 
 def fail(msg):
@@ -76,6 +78,15 @@ def main():
             fail("no boxes drawn at depth 2")
         if attrs.get("heatmap") != "1":
             fail("no heatmap drawn")
+        # The hottest pixel the page shows is where the server finds it for the page's request.
+        shown = re.search(r'id="heat-caption-0" data-hottest="(\d+),(\d+)"', html)
+        request = attrs.get("heat-request")
+        if not shown or not request:
+            fail("no hottest pixel or heatmap request on the page")
+        asked = urllib.request.Request(url + "api/heatmap", data=htmllib.unescape(request).encode(), method="POST")
+        server_map = json.loads(urllib.request.urlopen(asked, timeout=60).read())["maps"][0]
+        if [int(shown.group(1)), int(shown.group(2))] != server_map["hottest"]:
+            fail("the page's hottest pixel %s is not the server's %s" % (shown.groups(), server_map["hottest"]))
         if "webgl" not in attrs:
             fail("the page did not try WebGL")
         # The traversal the page lists is `thicket explain`'s for the same ray.

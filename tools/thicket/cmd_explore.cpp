@@ -75,7 +75,7 @@ int run_explore(const ExploreArgs& args) {
 
     Scene scene = load_scene_verbose(args.scene);
     std::vector<std::unique_ptr<Accel>> accels = build_all(args.accels, scene, args.threads);
-    const explore::Session session(std::move(scene), std::move(accels));
+    const explore::Session session(std::move(scene), std::move(accels), args.threads);
     explore::Server http(session);
     const int port = http.bind(args.host, args.port);
     const std::string shown_host = args.host.find(':') != std::string::npos ? "[" + args.host + "]" : args.host;

@@ -249,6 +249,7 @@ async function heatmap() {
   box.appendChild(scale);
   $('overlay').style.display = $('overlay-on').checked ? '' : 'none';
   state.view = body;
+  document.body.dataset.heatRequest = JSON.stringify(body);  // the browser test asks the server again
   document.body.dataset.heatmap = String(r.maps.length);
 }
 

@@ -96,8 +96,8 @@ Response json_response(const json& j) { return {200, j.dump()}; }
 
 json box_json(const Aabb& b) { return json::array({b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z}); }
 
-Session::Session(Scene scene, std::vector<std::unique_ptr<Accel>> accels)
-    : scene_(std::move(scene)), accels_(std::move(accels)) {
+Session::Session(Scene scene, std::vector<std::unique_ptr<Accel>> accels, unsigned threads)
+    : scene_(std::move(scene)), accels_(std::move(accels)), threads_(threads) {
     if (accels_.empty()) throw Error("explore: no structure to serve");
 }
 

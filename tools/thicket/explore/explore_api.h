@@ -46,8 +46,9 @@ std::string explain_ray(const Accel& accel, const Scene& scene, const Ray& ray);
 
 class Session {
 public:
-    /// Takes the scene and the structures built over it (at least one).
-    Session(Scene scene, std::vector<std::unique_ptr<Accel>> accels);
+    /// Takes the scene and the structures built over it (at least one); a heatmap is traced on
+    /// up to `threads` threads (0: every core).
+    Session(Scene scene, std::vector<std::unique_ptr<Accel>> accels, unsigned threads = 0);
 
     /// Answers one request. Never throws: a bad request gets a 4xx and {"error": "..."} naming
     /// the field or value; an unexpected failure a 500. Safe to call from several threads.
@@ -66,6 +67,7 @@ private:
 
     Scene scene_;
     std::vector<std::unique_ptr<Accel>> accels_;
+    unsigned threads_ = 0;
 };
 
 }  // namespace thicket::explore

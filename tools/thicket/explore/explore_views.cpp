@@ -139,7 +139,7 @@ Response Session::heatmap(const std::string& body) const {
     for (size_t w : which) {
         const Accel& a = *accels_[w];
         std::vector<uint64_t> work(pixels);
-        parallel_for(view.height, 8, 0, [&](size_t y0, size_t y1) {
+        parallel_for(view.height, 8, threads_, [&](size_t y0, size_t y1) {
             for (size_t y = y0; y < y1; ++y)
                 for (uint32_t x = 0; x < view.width; ++x) {
                     RayCounters c;
