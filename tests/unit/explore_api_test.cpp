@@ -146,6 +146,22 @@ TEST_F(ExploreApi, TraceIsExplainOfThePixelsRay) {
     EXPECT_FALSE(e["steps"].empty());
 }
 
+// grid2 tests primitives through the grid's cell code (which records them) but walks its own
+// levels (which do not): its trace must say "totals only", not list a partial walk as whole.
+TEST_F(ExploreApi, PartialRecordingIsReportedAsTotalsOnly) {
+    const std::unique_ptr<Accel> grid2 = build_accel("grid2", scene, 1);
+    Ray ray;
+    ray.org = {0.5f, 0.5f, -1.0f};
+    ray.dir = {0.01f, 0.02f, 1.0f};
+    const json e = json::parse(explore::explain_ray(*grid2, scene, ray));
+    RayCounters plain;
+    grid2->intersect(ray, plain);
+    ASSERT_GT(plain.prims, 0u);
+    EXPECT_FALSE(e["detailed"].get<bool>());
+    EXPECT_TRUE(e["steps"].empty());
+    EXPECT_EQ(e["prims"], plain.prims);
+}
+
 TEST_F(ExploreApi, RefusalsNameWhatIsWrong) {
     refused("/api/nodes", "{not json", 400, "not JSON");
     refused("/api/nodes", "[1,2]", 400, "JSON object");

@@ -103,7 +103,8 @@ int Server::bind(const std::string& host, int port) {
         bound = -1;
     if (bound <= 0)
         throw Error("explore: cannot listen on " + host + ":" + std::to_string(port) +
-                    " (address in use or not this machine's? try --port 0 for a free port)");
+                    (port == 0 ? std::string(" (not one of this machine's addresses?)")
+                               : std::string(" (port in use, or not one of this machine's addresses? --port 0 takes a free port)")));
     return bound;
 }
 

@@ -43,6 +43,12 @@ json traversal_json(const Accel& accel, const Scene& scene, const Ray& ray) {
     TraversalRecorder rec;
     rec.limit = kMaxSteps;
     const Hit hit = accel.intersect(ray, rec);
+    // A structure that reports only some of its steps (grid2's cells share the grid's primitive
+    // tests but not its walk) would give a list that looks whole and is not: totals only.
+    if (!rec.detailed) {
+        rec.steps.clear();
+        rec.dropped = 0;
+    }
     // The boxes of the nodes the steps name, found in one pass over the structure's nodes.
     std::unordered_map<uint32_t, Aabb> boxes;
     for (const TraversalStep& s : rec.steps)
