@@ -6,6 +6,7 @@
 #include "bench_commands.h"
 #include "common.h"
 #include "cost_command.h"
+#include "explore_commands.h"
 #include "point_commands.h"
 #include "thicket/core/error.h"
 
@@ -27,7 +28,8 @@ int main(int argc, char** argv) {
                     thicket::cli::add_info_command(app), thicket::cli::add_build_command(app),
                     thicket::cli::add_accels_command(app), thicket::cli::add_rays_command(app),
                     thicket::cli::add_bench_command(app), thicket::cli::add_compare_command(app),
-                    thicket::cli::add_cost_command(app)};
+                    thicket::cli::add_cost_command(app),
+                    thicket::cli::add_explore_command(app), thicket::cli::add_explain_command(app)};
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         // Help and --version "fail" with exit code 0; real usage errors get the shell's usual 2.

@@ -17,6 +17,7 @@
 #include "thicket/core/closest_point.h"
 #include "thicket/core/ray.h"
 #include "thicket/core/sah.h"
+#include "thicket/core/traversal_record.h"
 #include "thicket/core/tree_figures.h"
 
 namespace thicket {
@@ -95,6 +96,13 @@ public:
     virtual bool occluded(const Ray& ray) const = 0;
     virtual bool occluded(const Ray& ray, RayCounters& counters) const = 0;
     virtual AccelStats stats() const = 0;
+
+    /// Closest hit, recording the traversal into `recorder` (core/traversal_record.h). A structure
+    /// that reports its steps sets recorder.detailed; the default only fills the totals.
+    virtual Hit intersect(const Ray& ray, TraversalRecorder& recorder) const;
+    /// Calls `visit` for every node (or non-empty cell) in the numbering recorded steps use, and
+    /// returns true; returns false, visiting nothing, for a structure that does not draw itself.
+    virtual bool for_each_node(const std::function<void(const NodeBox&)>& visit) const;
 
     /// Closest hit of every ray: hits[i] is what intersect(rays[i]) returns, on options.threads
     /// threads. Throws Error if the spans differ in size.
@@ -199,6 +207,11 @@ public:
         return self().any(ray, none);
     }
     bool occluded(const Ray& ray, RayCounters& counters) const final { return self().any(ray, counters); }
+    /// Structures whose traversal calls the record_* members say so with kRecordsSteps = true.
+    Hit intersect(const Ray& ray, TraversalRecorder& recorder) const final {
+        if constexpr (requires { Derived::kRecordsSteps; }) recorder.detailed = Derived::kRecordsSteps;
+        return self().closest(ray, recorder);
+    }
 
 private:
     const Derived& self() const { return static_cast<const Derived&>(*this); }

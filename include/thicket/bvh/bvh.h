@@ -7,6 +7,7 @@
 #include "thicket/accel/refit.h"
 #include "thicket/bvh/build.h"
 #include "thicket/bvh/closest_point.h"
+#include "thicket/bvh/draw.h"
 #include "thicket/bvh/refit.h"
 #include "thicket/bvh/traversal.h"
 
@@ -44,6 +45,14 @@ public:
     template <class C>
     bool any(const Ray& ray, C& counters) const {
         return any_hit<bvh_detail::Query>(data_, prims_, ray, counters, traversal_);
+    }
+
+    /// The traversal reports its steps to a TraversalRecorder (Accel::intersect).
+    static constexpr bool kRecordsSteps = true;
+    /// Every node in use from the root, depth first; ids are node-pool indices.
+    bool for_each_node(const std::function<void(const NodeBox&)>& visit) const override {
+        bvh_for_each_node(data_, visit);
+        return true;
     }
 
     NearestPoint closest_point(const Vec3& p) const override {

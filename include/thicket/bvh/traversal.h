@@ -9,6 +9,7 @@
 #include "thicket/core/hit_query.h"
 #include "thicket/core/ordered_traversal.h"
 #include "thicket/core/ray_box.h"
+#include "thicket/core/traversal_record.h"
 #include "thicket/prims/primitive_set.h"
 
 namespace thicket {
@@ -35,7 +36,9 @@ struct Query {
 
     float enter(uint32_t n) {
         counters.node();
-        return ray_box_entry(box, bvh.nodes[n].aabbMin, bvh.nodes[n].aabbMax, ray.tmin, far());
+        const float t = ray_box_entry(box, bvh.nodes[n].aabbMin, bvh.nodes[n].aabbMax, ray.tmin, far());
+        if constexpr (RecordsSteps<C>) counters.record_node(n, t);
+        return t;
     }
 
     /// Tests a leaf's primitives; true ends the query (any-hit found something).
@@ -47,6 +50,7 @@ struct Query {
             } else {
                 prims.intersect(bvh.prim_indices[i], ray, hit);
             }
+            if constexpr (RecordsSteps<C>) counters.record_prim(bvh.prim_indices[i], far());
         }
         return false;
     }
@@ -76,6 +80,11 @@ struct Query {
             }
         }
         return false;
+    }
+
+    /// A pushed node dropped when popped (the hit found since is nearer): told to a recorder.
+    void skipped(uint32_t n, float t_enter) {
+        if constexpr (RecordsSteps<C>) counters.record_skip(n, t_enter);
     }
 
     bool is_leaf(uint32_t n) const { return bvh.nodes[n].is_leaf(); }

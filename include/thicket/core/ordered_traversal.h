@@ -17,7 +17,8 @@ namespace thicket {
 ///   bool is_leaf(uint32_t n), uint32_t first_child(uint32_t n)   (children are first and first + 1);
 ///   bool leaf(uint32_t n)         tests a leaf's primitives, true ends the query (any hit found);
 ///   float far()                   the query's current far end (the closest hit so far, or tmax);
-/// and second_first(n, t_first, t_second) says whether node n's second child goes first.
+/// and second_first(n, t_first, t_second) says whether node n's second child goes first;
+/// optionally skipped(n, t): node n, pushed with entry t, is dropped as the query's far end came closer.
 /// Returns true when a leaf ended the query. The tree must be at most StackSize deep.
 template <uint32_t StackSize, class Query, class SecondFirst>
 inline bool ordered_traversal(Query& q, SecondFirst&& second_first) {
@@ -57,6 +58,8 @@ inline bool ordered_traversal(Query& q, SecondFirst&& second_first) {
                 n = e.node;
                 break;
             }
+            // Only a query that records its steps has skipped() (core/traversal_record.h).
+            if constexpr (requires { q.skipped(e.node, e.t); }) q.skipped(e.node, e.t);
         }
     }
 }

@@ -40,6 +40,21 @@ public:
                                 : grid_walk<true, NoMailbox>(data_, prims_, ray, unused, counters);
     }
 
+    /// The walk reports its steps to a TraversalRecorder (Accel::intersect).
+    static constexpr bool kRecordsSteps = true;
+    /// Every non-empty cell, at depth 0; ids are the linear cell indices the walk records.
+    bool for_each_node(const std::function<void(const NodeBox&)>& visit) const override {
+        const GridFrame& f = data_.frame;
+        if (data_.lists.cells() == 0) return true;
+        for (uint32_t z = 0; z < f.res[2]; ++z)
+            for (uint32_t y = 0; y < f.res[1]; ++y)
+                for (uint32_t x = 0; x < f.res[0]; ++x) {
+                    const uint32_t i = f.index(x, y, z), n = data_.lists.count(i);
+                    if (n) visit(NodeBox{i, 0, f.cell_box(x, y, z), true, n});
+                }
+        return true;
+    }
+
     AccelStats stats() const override {
         AccelStats s = this->base_stats();
         s.primitives = prims_.size();

@@ -5,6 +5,7 @@
 
 #include "thicket/core/mailbox.h"
 #include "thicket/core/ray.h"
+#include "thicket/core/traversal_record.h"
 #include "thicket/grid/cells.h"
 
 namespace thicket {
@@ -38,6 +39,7 @@ inline bool visit_cell(const uint32_t* first, const uint32_t* last, const Prims&
         } else {
             prims.intersect(id, ray, hit);
         }
+        if constexpr (RecordsSteps<C>) counters.record_prim(id, AnyHit ? ray.tmax : hit.t);
     }
     return false;
 }

@@ -1,0 +1,214 @@
+// `thicket explore`'s JSON handlers (tools/thicket/explore/explore_api.h) called directly: each
+// answer against what the library says independently, and each refusal's status and message.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <random>
+
+#include "explore_api.h"
+#include "thicket/accel/registry.h"
+
+namespace thicket {
+namespace {
+
+using nlohmann::json;
+
+Scene small_scene() {
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f), d(-0.1f, 0.1f);
+    Scene s;
+    s.name = "small";
+    for (uint32_t t = 0; t < 120; ++t) {
+        const Vec3 c{u(rng), u(rng), u(rng)};
+        for (int k = 0; k < 3; ++k) s.mesh.positions.push_back(c + Vec3{d(rng), d(rng), d(rng)});
+        s.mesh.indices.insert(s.mesh.indices.end(), {3 * t, 3 * t + 1, 3 * t + 2});
+    }
+    return s;
+}
+
+struct ExploreApi : ::testing::Test {
+    Scene scene = small_scene();
+    std::unique_ptr<Accel> bvh = build_accel("bvh", scene, 1), grid = build_accel("grid", scene, 1);
+    const Accel* bvh_view = bvh.get();
+    const Accel* grid_view = grid.get();
+    std::unique_ptr<explore::Session> session;
+    void SetUp() override {
+        std::vector<std::unique_ptr<Accel>> accels;
+        accels.push_back(std::move(bvh));
+        accels.push_back(std::move(grid));
+        session = std::make_unique<explore::Session>(small_scene(), std::move(accels));
+    }
+    json ok(const std::string& method, const std::string& path, const json& body = nullptr) {
+        const explore::Response r = session->handle(method, path, body.is_null() ? "" : body.dump());
+        EXPECT_EQ(r.status, 200) << path << ": " << r.body;
+        return json::parse(r.body);
+    }
+    /// The refusal's status, and its message must contain `needle`.
+    void refused(const std::string& path, const std::string& body, int status, const std::string& needle,
+                 const std::string& method = "POST") {
+        const explore::Response r = session->handle(method, path, body);
+        EXPECT_EQ(r.status, status) << path << " " << body.substr(0, 80) << ": " << r.body;
+        const json j = json::parse(r.body, nullptr, false);
+        ASSERT_TRUE(j.is_object() && j.contains("error")) << r.body;
+        EXPECT_NE(j["error"].get<std::string>().find(needle), std::string::npos) << j["error"] << " lacks " << needle;
+    }
+    static json view(uint32_t w, uint32_t h) {
+        return {{"camera", {{"eye", {0.5, 0.5, -2.0}}, {"target", {0.5, 0.5, 0.5}}, {"up", {0, 1, 0}}, {"fov", 40}}},
+                {"width", w}, {"height", h}};
+    }
+};
+
+TEST_F(ExploreApi, SceneStatsAndMesh) {
+    const json s = ok("GET", "/api/scene");
+    EXPECT_EQ(s["triangles"], 120);
+    EXPECT_EQ(s["structures"][0]["spec"], bvh_view->spec());
+    EXPECT_EQ(s["structures"][1]["draws_nodes"], true);
+    const json st = ok("GET", "/api/stats");
+    EXPECT_EQ(st["structures"][0]["nodes"], bvh_view->stats().nodes);
+    EXPECT_EQ(st["structures"][1]["leaves"], grid_view->stats().leaves);
+    const explore::Response m = session->handle("GET", "/api/mesh", "");
+    ASSERT_EQ(m.body.size(), 120u * 9 * sizeof(float));
+    float last[3];
+    std::memcpy(last, m.body.data() + m.body.size() - sizeof last, sizeof last);
+    EXPECT_EQ(last[2], scene.mesh.vertex(119, 2).z);
+}
+
+TEST_F(ExploreApi, NodesByDepth) {
+    const json root = ok("POST", "/api/nodes", {{"structure", 0}, {"depth", 0}});
+    ASSERT_EQ(root["boxes"].size(), 1u);
+    const Aabb b = bvh_view->bounds();
+    EXPECT_EQ(root["boxes"][0]["box"], json({b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z}));
+    EXPECT_EQ(root["max_depth"], bvh_view->stats().max_depth);
+    // Every node appears at exactly one depth.
+    size_t total = 0;
+    for (uint32_t d = 0; d <= root["max_depth"].get<uint32_t>(); ++d)
+        total += ok("POST", "/api/nodes", {{"structure", bvh_view->spec()}, {"depth", d}})["count"].get<size_t>();
+    EXPECT_EQ(total, bvh_view->stats().nodes);
+    EXPECT_EQ(ok("POST", "/api/nodes", {{"structure", 1}})["count"], grid_view->stats().leaves);
+}
+
+TEST_F(ExploreApi, HeatmapCountsTheRealStructureOnAShardScale) {
+    const json h = ok("POST", "/api/heatmap", [] { json v = view(9, 7); v["structures"] = {0, 1}; return v; }());
+    explore::View v;
+    v.eye = {0.5f, 0.5f, -2.0f};
+    v.target = {0.5f, 0.5f, 0.5f};
+    v.fov_deg = 40;
+    v.width = 9;
+    v.height = 7;
+    uint64_t max = 0;
+    for (int m = 0; m < 2; ++m) {
+        const Accel& a = m ? *grid_view : *bvh_view;
+        uint64_t own_max = 0;
+        for (uint32_t y = 0; y < 7; ++y)
+            for (uint32_t x = 0; x < 9; ++x) {
+                RayCounters c;
+                a.intersect(v.pixel_ray(x, y), c);
+                EXPECT_EQ(h["maps"][m]["values"][y * 9 + x], c.nodes) << m << " " << x << "," << y;
+                own_max = std::max(own_max, c.nodes);
+            }
+        EXPECT_EQ(h["maps"][m]["max"], own_max);
+        max = std::max(max, own_max);
+    }
+    EXPECT_EQ(h["max"], max);
+}
+
+TEST_F(ExploreApi, PixelRayGoesThroughTheTargetAtTheCentre) {
+    explore::View v;
+    v.eye = {1, 2, 3};
+    v.target = {4, -2, 3};
+    v.width = 5;
+    v.height = 3;
+    const Ray r = v.pixel_ray(2, 1);
+    const Vec3 want = normalize(v.target - v.eye);
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(r.dir[a], want[a], 1e-6f);
+    // Row 0 is the top: its ray leans towards up.
+    EXPECT_GT(dot(v.pixel_ray(2, 0).dir, v.up), dot(r.dir, v.up));
+}
+
+TEST_F(ExploreApi, TraceIsExplainOfThePixelsRay) {
+    json req = view(16, 16);
+    req["x"] = 8;
+    req["y"] = 8;
+    req["structure"] = 1;
+    json t = ok("POST", "/api/trace", req);
+    explore::View v;
+    v.eye = {0.5f, 0.5f, -2.0f};
+    v.target = {0.5f, 0.5f, 0.5f};
+    v.fov_deg = 40;
+    v.width = v.height = 16;
+    json e = json::parse(explore::explain_ray(*grid_view, scene, v.pixel_ray(8, 8)));
+    t.erase("pixel");
+    EXPECT_EQ(t, e);
+    EXPECT_TRUE(e["detailed"].get<bool>());
+    EXPECT_FALSE(e["steps"].empty());
+}
+
+// grid2 tests primitives through the grid's cell code (which records them) but walks its own
+// levels (which do not): its trace must say "totals only", not list a partial walk as whole.
+TEST_F(ExploreApi, PartialRecordingIsReportedAsTotalsOnly) {
+    const std::unique_ptr<Accel> grid2 = build_accel("grid2", scene, 1);
+    Ray ray;
+    ray.org = {0.5f, 0.5f, -1.0f};
+    ray.dir = {0.01f, 0.02f, 1.0f};
+    const json e = json::parse(explore::explain_ray(*grid2, scene, ray));
+    RayCounters plain;
+    grid2->intersect(ray, plain);
+    ASSERT_GT(plain.prims, 0u);
+    EXPECT_FALSE(e["detailed"].get<bool>());
+    EXPECT_TRUE(e["steps"].empty());
+    EXPECT_EQ(e["prims"], plain.prims);
+}
+
+TEST_F(ExploreApi, RefusalsNameWhatIsWrong) {
+    refused("/api/nodes", "{not json", 400, "not JSON");
+    refused("/api/nodes", "[1,2]", 400, "JSON object");
+    refused("/api/nodes", R"({"structure":"octree"})", 404, "unknown structure \"octree\"");
+    refused("/api/nodes", R"({"structure":7})", 404, "0 (bvh");
+    refused("/api/nodes", R"({"structure":-1})", 404, "unknown structure -1");
+    refused("/api/nodes", R"({"depth":100000})", 400, "\"depth\" = 100000 is out of range [0, 1000]");
+    refused("/api/nodes", R"({"depth":1.5})", 400, "\"depth\" must be a whole number");
+    refused("/api/nodes", R"({"depth":18446744073709551615})", 400, "out of range");
+    refused("/api/heatmap", "{}", 400, "missing object \"camera\"");
+    json v = view(0, 5);
+    refused("/api/heatmap", v.dump(), 400, "\"width\" = 0 is out of range [1, 1024]");
+    v = view(1024, 1024);
+    refused("/api/heatmap", v.dump(), 400, "at most 262144");
+    v = view(4, 4);
+    v["metric"] = "time";
+    refused("/api/heatmap", v.dump(), 400, "\"metric\" must be");
+    v = view(4, 4);
+    v["structures"] = {0, 1, 0};
+    refused("/api/heatmap", v.dump(), 400, "1 or 2 structures");
+    v = view(4, 4);
+    v["camera"]["eye"] = {0.5, 0.5, 0.5};
+    refused("/api/heatmap", v.dump(), 400, "distinct points");
+    v = view(4, 4);
+    v["camera"]["eye"] = {1e300, 0, 0};
+    refused("/api/heatmap", v.dump(), 400, "finite numbers");
+    v = view(4, 4);
+    v["camera"]["up"] = {0, 0, 1};
+    refused("/api/heatmap", v.dump(), 400, "parallel");
+    v = view(4, 4);
+    v["x"] = 4;
+    v["y"] = 0;
+    refused("/api/trace", v.dump(), 400, "\"x\" = 4 is out of range [0, 3]");
+    v.erase("y");
+    v["x"] = 0;
+    refused("/api/trace", v.dump(), 400, "missing field \"y\"");
+    refused("/api/nodes", std::string(explore::kMaxBodyBytes + 1, ' '), 413, "at most 65536");
+    refused("/api/nodes", "", 405, "takes POST", "GET");
+    refused("/api/nothing", "", 404, "no such request");
+    // A structure that does not draw itself is told apart from a bad request.
+    std::vector<std::unique_ptr<Accel>> one;
+    one.push_back(build_accel("kdtree", scene, 1));
+    const explore::Session kd(small_scene(), std::move(one));
+    const explore::Response r = kd.handle("POST", "/api/nodes", "{}");
+    EXPECT_EQ(r.status, 422);
+    EXPECT_NE(r.body.find("does not draw its nodes"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace thicket
