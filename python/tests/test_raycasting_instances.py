@@ -231,3 +231,19 @@ def test_accel_bindings():
         plain.locate([0])
     with pytest.raises(ValueError, match="only a scene of triangles"):
         thicket.Scene(v, t).add_geometry(scene)
+
+
+@pytest.mark.parametrize("accel", ["bvh8", "kdtree"])
+def test_set_vertices_moves_every_copy(accel):
+    # An instanced structure cannot refit: the next query builds it again, the instance with it.
+    placements = [(1, TRANSFORMS["shear"])]
+    inst, _, table, points = pair(placements, accel)
+    tv, tt = meshes()[1]
+    bent = tv * np.float32([1.3, 1, 1])
+    inst.cast_rays(np.zeros((1, 6), np.float32))
+    inst.set_vertices(1, bent)
+    ref = thicket.RaycastingScene(accel=accel)
+    for g, (v, t) in enumerate(meshes()):
+        ref.add_triangles(bent if g == 1 else v, t)
+    ref.add_triangles(moved(bent, TRANSFORMS["shear"]), tt)
+    assert_same_hits(inst, ref, table, rays_at(points, 2000, seed=11), {0})
