@@ -121,8 +121,14 @@ void add_instance_functions(py::module_& m) {
             if (kind != 'i' && kind != 'u')
                 throw py::value_error("primitive_ids: expected an integer array, got " +
                                       std::string(py::str(given.dtype())));
-            const py::array prims = py::module_::import("numpy").attr("asarray")(given, "dtype"_a = "uint32");
-            const py::array flat = contiguous(prims, py::dtype::of<uint32_t>(), "primitive_ids");
+            // Read wide, so that a negative id or one past 32 bits is refused, not wrapped.
+            const py::array wide = contiguous(given, py::dtype::of<int64_t>(), "primitive_ids");
+            const auto* ids = static_cast<const int64_t*>(wide.data());
+            for (py::ssize_t k = 0; k < wide.size(); ++k)
+                if (ids[k] < 0 || ids[k] > int64_t(kNoPrim))
+                    throw py::value_error("primitive_ids: entry " + std::to_string(k) + " is " + std::to_string(ids[k]) +
+                                          ", not a primitive id (0..4294967295, the last a miss's)");
+            const py::array flat = contiguous(wide, py::dtype::of<uint32_t>(), "primitive_ids");
             std::vector<py::ssize_t> shape(flat.shape(), flat.shape() + flat.ndim());
             py::array_t<uint32_t> instance(shape), geometry(shape), prim(shape);
             const auto* in = static_cast<const uint32_t*>(flat.data());

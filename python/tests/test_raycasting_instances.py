@@ -218,6 +218,11 @@ def test_accel_bindings():
     np.testing.assert_array_equal(where["instance_ids"], [[0, 0, 1], [1, INVALID, INVALID]])
     np.testing.assert_array_equal(where["geometry_ids"], [[1, 1, 0], [0, INVALID, INVALID]])
     np.testing.assert_array_equal(where["primitive_ids"], [[0, 11, 0], [11, INVALID, INVALID]])
+    for bad in ([-1], np.array([1 << 32], np.int64)):
+        with pytest.raises(ValueError, match="primitive_ids: entry 0 is .*not a primitive id"):
+            accel.locate(bad)
+    with pytest.raises(ValueError, match="integer array"):
+        accel.locate([0.5])
     ray = np.array([[3.5, 3.5, 20, 0, 0, -1]], np.float32)
     assert accel.cast_rays(ray)["t_hit"][0] == 6  # the copy at z 13..14 (the prototype is not drawn)
     accel.set_transform(0, affine(np.eye(3), [0, 0, 5]))
