@@ -228,6 +228,8 @@ def test_accel_bindings():
     accel.set_transform(0, affine(np.eye(3), [0, 0, 5]))
     ans = accel.cast_rays(ray)
     assert ans["t_hit"][0] == 11 and ans["primitive_normals"][0].tolist() == [0, 0, 1]
+    with pytest.raises(thicket.Error, match="closest-point queries"):
+        accel.compute_distance(np.zeros((1, 3), np.float32))
     with pytest.raises(ValueError, match="instance_id must be an instance id in 0..1, got 2"):
         accel.set_transform(2, np.eye(4))
     plain = thicket.build(thicket.Scene(v, t), "bvh8")
