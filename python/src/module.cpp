@@ -11,6 +11,7 @@
 
 #include "arrays.h"
 #include "inputs.h"
+#include "instances.h"
 #include "pictures.h"
 #include "queries.h"
 #include "scenes.h"
@@ -271,4 +272,5 @@ PYBIND11_MODULE(_thicket, m) {
           "_batch_seconds(accel, rows, query, nthreads=0) -> float. For python/bench/module_bench.py: seconds of the C++ batch call alone (closest, any, count, closest_point)");
 
     add_picture_functions(m);  // Accel.render among them: after Accel
+    add_instance_functions(m);  // on Scene and Accel: after both
 }

@@ -20,11 +20,12 @@ namespace {
 /// The geometry id of a one-geometry scene's hits: what put4 writes from the miss mask alone.
 constexpr uint32_t kGeometryId = 0;
 
-/// h.triangle_normals, made on first use for a triangle scene (null for a scene with shapes,
+/// h.triangle_normals, made on first use for a triangle scene (null for a scene with shapes or instances,
 /// whose normals depend on the hit point). Call with the GIL held; it is released while the
 /// normals are computed, in parallel, with Scene::normal itself, so that they are its bits.
 std::shared_ptr<const std::vector<Vec3>> triangle_normals(AccelHandle& h, unsigned threads) {
-    if (h.triangle_normals || h.scene->has_shapes()) return h.triangle_normals;
+    // With instances hit.prim is a flattened id, which no per-triangle table covers.
+    if (h.triangle_normals || h.scene->has_shapes() || !h.scene->instances.empty()) return h.triangle_normals;
     const size_t count = h.scene->mesh.triangle_count();
     // Two zero entries past the last: a miss's normal (CastOutputs::put4), and room for reading
     // any entry as four floats.

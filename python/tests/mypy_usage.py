@@ -63,5 +63,15 @@ def use_everything(tmp_dir: str) -> float:
     assert first == 0 and second == 1 and int(which[1, 1]) in (0, 1) and bool(seen[1, 1])
     assert several.compute_closest_points(points)["primitive_ids"][0] == 0 and several.INVALID_ID == thicket.INVALID_ID
     inside: npt.NDArray[np.float32] = several.compute_occupancy(points, nsamples=3)
+    copy: int = several.add_instance(first, np.eye(4))
+    several.set_transform(copy, np.eye(4)[:3])
+    placed = several.cast_rays(np.array([[0.25, 0.25, 1, 0, 0, -1]], np.float32))
+    assert placed.get("instance_ids") is not None and int(placed["geometry_ids"][0]) == first
+    prototypes = thicket.Scene(np.zeros((0, 3), np.float32), np.zeros((0, 3), np.uint32))
+    prototypes.add_instance(prototypes.add_geometry(scene), np.eye(4))
+    instanced = thicket.build(prototypes)
+    instanced.set_transform(0, np.eye(4))
+    where: npt.NDArray[np.uint32] = instanced.locate(instanced.cast_rays(rays)["primitive_ids"])["instance_ids"]
+    assert prototypes.instance_count == instanced.instance_count == 1 and where[1, 1] == 0
     assert several.test_occlusions(rays, tfar=10.0).shape == (3, 3) and inside.shape == (1,)
     return float(t[1, 1]) + float(d[0])

@@ -2,7 +2,8 @@
 # IDEs and mypy. python/tests/test_stub.py checks that its names are the module's, and the module's
 # its own. Arrays are numpy arrays; shapes are in the docstrings (numpy's types do not carry them).
 import os
-from typing import Any, Dict, Generic, List, Literal, Optional, Sequence, Tuple, TypedDict, TypeVar, Union, overload
+from typing import (Any, Dict, Generic, List, Literal, NotRequired, Optional, Sequence, Tuple, TypedDict, TypeVar, Union,
+                    overload)
 
 import numpy as np
 import numpy.typing as npt
@@ -43,6 +44,11 @@ class _ClosestPoints(TypedDict):
     primitive_uvs: _Float32Array         # (..., 2)
     primitive_normals: _Float32Array     # (..., 3)
 
+class _Located(TypedDict):
+    instance_ids: _UInt32Array           # (...)       INVALID_ID for a miss's id
+    geometry_ids: _UInt32Array           # (...)       the prototype's geometry
+    primitive_ids: _UInt32Array          # (...)       within that geometry
+
 class _RaySet(TypedDict, total=False):
     rays: _Float32Array                  # (N, 6)      ox oy oz dx dy dz, unit directions
     tmin: _Float32Array                  # (N,)        0
@@ -81,6 +87,12 @@ class Scene:
         """A copy, uint32 (T, 3)."""
     def set_vertices(self, geometry_id: int, vertices: npt.ArrayLike) -> None:
         """Moves geometry geometry_id's vertices to (N, 3) of any float dtype (N its own vertex count); then Accel.refit(scene)."""
+    def add_geometry(self, other: Scene) -> int:
+        """Appends other's triangles as a new geometry -> its geometry id."""
+    def add_instance(self, geometry_id: int, transform: npt.ArrayLike) -> int:
+        """Places geometry geometry_id under a (3, 4) or (4, 4) affine transform -> the instance id; then geometries are prototypes."""
+    @property
+    def instance_count(self) -> int: ...
 
 class Accel:
     """An acceleration structure over a scene: thicket.build(scene, spec) or thicket.load(path, scene)."""
@@ -98,6 +110,12 @@ class Accel:
         """Whether refit() is supported (bvh, bvh8, obb)."""
     def refit(self, scene: Scene, nthreads: int = 0) -> None:
         """Updates the structure for scene's moved vertices (same primitives, same order); thicket.Error if it cannot refit."""
+    @property
+    def instance_count(self) -> int: ...
+    def set_transform(self, instance_id: int, transform: npt.ArrayLike) -> None:
+        """Moves an instance to a (3, 4) or (4, 4) affine transform, rebuilding only the top level."""
+    def locate(self, primitive_ids: npt.ArrayLike) -> _Located:
+        """Flattened primitive ids (...) of a structure with instances -> instance, geometry and primitive ids (...)."""
     def cast_rays(self, rays: _Float32Array, nthreads: int = 0, coherent: bool = False) -> _CastResult:
         """rays float32 (..., 6) or (..., 8) -> closest hits, each array of the rays' leading shape."""
     def test_occlusions(self, rays: _Float32Array, tnear: Optional[float] = None, tfar: Optional[float] = None,
@@ -145,6 +163,7 @@ class _SceneCast(TypedDict):
     primitive_ids: _Answer[np.uint32]      # (...)       the triangle within its geometry; INVALID_ID on a miss
     primitive_uvs: _Answer[np.float32]     # (..., 2)
     primitive_normals: _Answer[np.float32]  # (..., 3)
+    instance_ids: NotRequired[_Answer[np.uint32]]  # (...)       with instances: add_instance's id, else INVALID_ID
 
 class _SceneIntersections(TypedDict):
     ray_splits: _Answer[np.uint32]         # (N + 1,)
@@ -153,6 +172,7 @@ class _SceneIntersections(TypedDict):
     geometry_ids: _Answer[np.uint32]       # (M,)
     primitive_ids: _Answer[np.uint32]      # (M,)       within the geometry
     primitive_uvs: _Answer[np.float32]     # (M, 2)
+    instance_ids: NotRequired[_Answer[np.uint32]]  # (M,)        with instances: add_instance's id, else INVALID_ID
 
 class _SceneClosest(TypedDict):
     points: _Answer[np.float32]            # (..., 3)
@@ -160,11 +180,12 @@ class _SceneClosest(TypedDict):
     primitive_ids: _Answer[np.uint32]      # (...)      within the geometry
     primitive_uvs: _Answer[np.float32]     # (..., 2)
     primitive_normals: _Answer[np.float32]  # (..., 3)
+    instance_ids: NotRequired[_Answer[np.uint32]]  # (...)       with instances: add_instance's id, else INVALID_ID
 
 _Input = Union[npt.ArrayLike, Any]  # a numpy array, a list, an Open3D Tensor
 
 class RaycastingScene:
-    """Open3D's RaycastingScene: several meshes, each a geometry id; instances are not here yet."""
+    """Open3D's RaycastingScene: several meshes, each a geometry id, and instances of them."""
     INVALID_ID: int
     def __init__(self, nthreads: int = 0, accel: str = "bvh8") -> None:
         """nthreads for refits (0: one per core); accel: the structure's spec string."""
@@ -178,6 +199,10 @@ class RaycastingScene:
         """(N, 3) floats, N the geometry's vertex count; the next query or refit() updates the structure."""
     def refit(self) -> None:
         """Brings the structure up to date now (refit, or a rebuild for a structure that cannot refit)."""
+    def add_instance(self, geometry_id: int, transform: _Input) -> int:
+        """Draws geometry geometry_id again under a (3, 4) or (4, 4) affine transform -> the instance id (0, 1, ...)."""
+    def set_transform(self, instance_id: int, transform: _Input) -> None:
+        """Moves an instance; the next query rebuilds only the top level."""
     def cast_rays(self, rays: _Input, nthreads: int = 0) -> _SceneCast:
         """rays float32 (..., 6) or (..., 8) -> closest hits, each array of the rays' leading shape."""
     def test_occlusions(self, rays: _Input, tnear: float = 0.0, tfar: float = ..., nthreads: int = 0) -> _Answer[np.bool_]:

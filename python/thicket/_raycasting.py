@@ -11,7 +11,7 @@ import operator
 import numpy as np
 
 from ._cameras import create_rays_pinhole as _create_rays_pinhole
-from ._thicket import Scene, build
+from ._thicket import Error, Scene, build
 
 __all__ = ["RaycastingScene"]
 
@@ -21,6 +21,7 @@ _INVALID = 4294967295
 # the call that goes over is the one refused, not a later query.
 _MAX_TRIANGLES = _INVALID - 1
 _MAX_VERTICES = 1 << 32
+_IDENTITY = np.eye(4)[:3]
 
 
 class _Answer(np.ndarray):
@@ -113,8 +114,15 @@ class RaycastingScene:
     array itself, as a plain ndarray) and .isfinite(). Differences from Open3D: float64 inputs
     are rounded to float32 and triangle indices may be of any integer dtype (Open3D refuses both);
     rays may have 8 columns (ox oy oz dx dy dz tmin tmax); any Thicket structure can answer
-    (`accel`, a spec string: see thicket.accels()). Not here yet: Open3D-style instances
-    (add_instance, set_transform), which need the library's two-level structures.
+    (`accel`, a spec string: see thicket.accels()).
+
+    Instances: add_instance(geometry_id, transform) places a geometry again under a (3, 4) or
+    (4, 4) affine transform and returns the instance id (0, 1, ...); set_transform(instance_id,
+    transform) moves it, and the next query rebuilds only the top level of the two-level
+    structure. Every geometry stays drawn where add_triangles put it (as a mesh added to an Open3D
+    scene is), an instance being one more copy; answers then also carry instance_ids (uint32, the
+    add_instance id of the copy hit, INVALID_ID for a geometry's own copy and for a miss), while
+    geometry_ids and primitive_ids name the instanced geometry and its triangle.
 
     The structure is built on the first query after add_triangles (as Open3D commits its scene),
     over every geometry added so far. set_vertices(geometry_id, vertex_positions) moves a
@@ -144,6 +152,10 @@ class RaycastingScene:
         self._first_triangle = [0]   # geometry g's triangles are [first[g], first[g + 1]) of the whole
         self._first_vertex = [0]     # and its vertices [first[g], first[g + 1])
         self._tables = None          # the id translation tables of the built scene (see _local_ids)
+        self._instances = []         # (geometry id, float64 (3, 4) transform) per add_instance id
+        self._built_instances = 0    # how many of them the structure has (0: it is a plain one)
+        self._moved_instances = {}   # instance id -> transform set since the structure was built
+        self._flat = None            # closest points with instances: the flattened scene's structure
 
     # ----------------------------------------------------------------------------------- building
 
@@ -191,17 +203,60 @@ class RaycastingScene:
         self._first_vertex.append(vertex_total)
         return len(self._first_triangle) - 2
 
+    def add_instance(self, geometry_id, transform):
+        """add_instance(geometry_id, transform) -> int. Draws geometry geometry_id once more, placed by
+        transform (object to world): a (3, 4) or (4, 4) array-like of numbers, a 4x4's last row
+        0 0 0 1. Returns the instance's id: 0 for the first call, then 1, 2, ... (what instance_ids
+        answer). The geometry stays drawn where it was added. The structure is rebuilt on the next
+        query. ValueError for an id out of range or a bad transform (shape, a non-finite entry, a
+        projective last row); thicket.Error for a near-singular one (condition number above 1e4);
+        the scene unchanged."""
+        count = len(self._first_triangle) - 1
+        gid = self._geometry_id(geometry_id, count)
+        self._instances.append((gid, self._checked_transform(transform)))
+        return len(self._instances) - 1
+
+    def set_transform(self, instance_id, transform):
+        """set_transform(instance_id, transform) -> None. Moves instance instance_id (add_instance's id)
+        to transform, as add_instance takes it; the next query rebuilds only the top level of the
+        structure (the geometries' own structures are kept). Errors as add_instance's, and a
+        ValueError for an id out of range; the scene unchanged."""
+        count = len(self._instances)
+        iid = _count(instance_id, "instance_id", f"an instance id in 0..{count - 1}")
+        if iid >= count:
+            raise ValueError(f"instance_id must be an instance id in 0..{count - 1}, got {iid}" if count else
+                             f"instance_id {iid}: the scene has no instance yet (add_instance first)")
+        checked = self._checked_transform(transform)
+        self._instances[iid] = (self._instances[iid][0], checked)
+        if iid < self._built_instances:
+            self._moved_instances[iid] = checked
+
+    @staticmethod
+    def _geometry_id(geometry_id, count):
+        gid = _count(geometry_id, "geometry_id", f"a geometry id in 0..{count - 1}")
+        if gid >= count:
+            raise ValueError(f"geometry_id must be a geometry id in 0..{count - 1}, got {gid}" if count else
+                             f"geometry_id {gid}: the scene has no geometry yet (add_triangles first)")
+        return gid
+
+    @staticmethod
+    def _checked_transform(transform):
+        """transform as float64 (3, 4), checked now, as the library checks it (Scene.add_instance on a
+        one-triangle scene), so that a bad one is refused by the call that gives it."""
+        probe = Scene(np.eye(3, dtype=np.float32), np.array([[0, 1, 2]], np.uint32))
+        try:
+            probe.add_instance(0, _as_array(transform))  # ValueError naming what is wrong
+        except Error as e:  # near-singular: the probe's own scene and instance are not the caller's
+            raise Error("transform: " + str(e).split(": ", 2)[-1]) from None
+        return np.array(_as_array(transform), np.float64)[:3].copy()
+
     def set_vertices(self, geometry_id, vertex_positions):
         """set_vertices(geometry_id, vertex_positions) -> None. Moves geometry geometry_id's vertices to
         vertex_positions, (N, 3) of any float dtype with N the count it was added with, in that
         order; its triangles keep their indices. The next query (or refit()) brings the structure
         up to date. ValueError for an id out of range, a wrong shape, dtype or count, or a value
         not finite as float32, the scene unchanged."""
-        count = len(self._first_triangle) - 1
-        gid = _count(geometry_id, "geometry_id", f"a geometry id in 0..{count - 1}")
-        if gid >= count:
-            raise ValueError(f"geometry_id must be a geometry id in 0..{count - 1}, got {gid}" if count else
-                             f"geometry_id {gid}: the scene has no geometry yet (add_triangles first)")
+        gid = self._geometry_id(geometry_id, len(self._first_triangle) - 1)
         v = _as_array(vertex_positions)
         want = self._first_vertex[gid + 1] - self._first_vertex[gid]
         if v.ndim != 2 or v.shape[1] != 3 or v.dtype.kind != "f":
@@ -227,8 +282,15 @@ class RaycastingScene:
         """The structure, brought up to date with every add_triangles and set_vertices."""
         # A scene of vertices without triangles has no geometry to move in place (Scene.set_vertices
         # refuses it): it is made again, as after add_triangles.
-        if self._pending or (self._moved and not self._scene.triangle_count):
+        if (self._pending or (self._moved and (self._instances or not self._scene.triangle_count))
+                or len(self._instances) != self._built_instances):
+            # An instanced structure cannot refit (moved vertices): it is built again.
             self._rebuild()
+        elif self._moved_instances:
+            plain = len(self._first_triangle) - 1  # the identity instances come first (_build_instanced)
+            for iid, transform in sorted(self._moved_instances.items()):
+                self._accel.set_transform(plain + iid, transform)
+            self._moved_instances, self._flat = {}, None
         elif self._moved:
             vertices = self._scene.vertices
             self._apply_moves(vertices)
@@ -253,11 +315,50 @@ class RaycastingScene:
         triangles = np.concatenate([p.triangles + np.uint32(s) for p, s in zip(parts, starts)])
         self._apply_moves(vertices)
         scene = Scene(vertices, triangles)
-        accel = build(scene, self._spec)
+        accel = self._build_instanced(scene) if self._instances else build(scene, self._spec)
         # Only once both exist: a MemoryError above leaves the scene as it was, still to be built.
         self._scene, self._accel = scene, accel
         self._pending, self._moved = [], {}
+        self._built_instances, self._moved_instances, self._flat = len(self._instances), {}, None
         self._tables = self._id_tables()
+
+    def _geometry_arrays(self, scene, gid):
+        """(vertices, triangles) of geometry gid of the combined scene, its indices from 0."""
+        v0, v1 = self._first_vertex[gid], self._first_vertex[gid + 1]
+        t0, t1 = self._first_triangle[gid], self._first_triangle[gid + 1]
+        return scene.vertices[v0:v1], scene.triangles[t0:t1] - np.uint32(v0)
+
+    def _build_instanced(self, scene):
+        """The two-level structure: every geometry a prototype, drawn in place by an identity
+        instance (instances 0..G-1, so that add_triangles' geometries stay drawn), then the
+        add_instance ones (G + instance id)."""
+        count = len(self._first_triangle) - 1
+        top = Scene(np.zeros((0, 3), np.float32), np.zeros((0, 3), np.uint32))
+        for gid in range(count):
+            top.add_geometry(Scene(*self._geometry_arrays(scene, gid)))
+        for gid in range(count):
+            top.add_instance(gid, _IDENTITY)
+        for gid, transform in self._instances:
+            top.add_instance(gid, transform)
+        return build(top, self._spec)
+
+    def _flattened(self):
+        """For closest points with instances (which the two-level structure does not answer): a
+        structure over every instance's triangles transformed, instance by instance as the
+        two-level structure numbers its primitives, so that its ids are the same flattened ids."""
+        if self._flat is None:
+            count = len(self._first_triangle) - 1
+            places = [(gid, _IDENTITY) for gid in range(count)] + list(self._instances)
+            vertices, triangles, base = [], [], 0
+            for gid, transform in places:
+                v, t = self._geometry_arrays(self._scene, gid)
+                # float32 products, as the library carries points (Affine::point)
+                m = transform.astype(np.float32)
+                vertices.append(v @ m[:, :3].T + m[:, 3])
+                triangles.append(t + np.uint32(base))
+                base += len(v)
+            self._flat = build(Scene(np.concatenate(vertices), np.concatenate(triangles)), self._spec)
+        return self._flat
 
     def _id_tables(self):
         """(ends, geometry_of, first_of) for _local_ids: ends holds each geometry's end in the
@@ -272,7 +373,18 @@ class RaycastingScene:
 
     def _local_ids(self, answer):
         """Replaces answer's geometry_ids and scene-wide primitive_ids by the geometry of each and
-        the id within it (a miss's INVALID_ID stays), as Open3D numbers them."""
+        the id within it (a miss's INVALID_ID stays), as Open3D numbers them; with instances, the
+        flattened ids by the prototype's and adds instance_ids."""
+        if self._built_instances:
+            where = self._accel.locate(answer["primitive_ids"])
+            instance = where["instance_ids"]
+            plain = np.uint32(len(self._first_triangle) - 1)
+            # A geometry's own copy (identity instance < plain) and a miss are no add_instance's.
+            answer["instance_ids"] = np.where((instance >= plain) & (instance != _INVALID), instance - plain,
+                                              np.uint32(_INVALID)).astype(np.uint32)
+            answer["geometry_ids"] = where["geometry_ids"]
+            answer["primitive_ids"] = where["primitive_ids"]
+            return
         if self._tables is None:
             return
         ends, geometry_of, first_of = self._tables
@@ -331,8 +443,8 @@ class RaycastingScene:
         finite. The closest surface point of each over every geometry: points float32 (..., 3),
         geometry_ids uint32 (...), primitive_ids uint32 (...) (within the geometry; INVALID_ID
         for an empty scene), primitive_uvs float32 (..., 2), primitive_normals float32 (..., 3)."""
-        answer = self._current().compute_closest_points(_float_rows(query_points, "query_points", "(..., 3)"),
-                                                        nthreads=nthreads)
+        answer = self._point_accel().compute_closest_points(_float_rows(query_points, "query_points", "(..., 3)"),
+                                                            nthreads=nthreads)
         self._local_ids(answer)
         return self._answers(answer)
 
@@ -340,14 +452,14 @@ class RaycastingScene:
         """compute_distance(query_points, nthreads=0) -> float32 (...). query_points: float32 (..., 3).
         Distance to the closest surface point (inf for an empty scene)."""
         points = _float_rows(query_points, "query_points", "(..., 3)")
-        return _answer(self._current().compute_distance(points, nthreads=nthreads))
+        return _answer(self._point_accel().compute_distance(points, nthreads=nthreads))
 
     def compute_signed_distance(self, query_points, nthreads=0, nsamples=1):
         """compute_signed_distance(query_points, nthreads=0, nsamples=1) -> float32 (...).
         query_points: float32 (..., 3). compute_distance, negative inside (by compute_occupancy:
         the meshes are taken to be closed and not to intersect one another, as Open3D does)."""
         points = _float_rows(query_points, "query_points", "(..., 3)")
-        return _answer(self._current().compute_signed_distance(points, nthreads=nthreads, nsamples=nsamples))
+        return _answer(self._point_accel().compute_signed_distance(points, nthreads=nthreads, nsamples=nsamples))
 
     def compute_occupancy(self, query_points, nthreads=0, nsamples=1):
         """compute_occupancy(query_points, nthreads=0, nsamples=1) -> float32 (...). query_points:
@@ -355,6 +467,11 @@ class RaycastingScene:
         along nsamples (odd, up to 5) directions, the majority deciding."""
         points = _float_rows(query_points, "query_points", "(..., 3)")
         return _answer(self._current().compute_occupancy(points, nthreads=nthreads, nsamples=nsamples))
+
+    def _point_accel(self):
+        """The structure that answers closest points: the flattened one with instances."""
+        accel = self._current()
+        return self._flattened() if self._built_instances else accel
 
     @staticmethod
     def create_rays_pinhole(*args, **kwargs):
@@ -365,5 +482,6 @@ class RaycastingScene:
 
     def __repr__(self):
         count = len(self._first_triangle) - 1
-        return (f"<thicket.RaycastingScene: {count} geometr{'y' if count == 1 else 'ies'}, "
+        instances = f", {len(self._instances)} instances" if self._instances else ""
+        return (f"<thicket.RaycastingScene: {count} geometr{'y' if count == 1 else 'ies'}{instances}, "
                 f"{self._first_triangle[-1]} triangles, '{self._spec.split(':')[0]}'>")
