@@ -64,6 +64,7 @@ void register_bvh(std::vector<AccelInfo>& registry) {
     info.variants.push_back("bvh:builder=lbvh,optimize=reinsertion,max-leaf=1,traversal=ordered-centroid");
     info.variants.push_back("bvh:builder=sbvh,traversal=ordered-distance");
     info.variants.push_back("bvh:budget=1,builder=sbvh,max-leaf=1,traversal=ordered-axis");
+    info.variants.push_back("bvh:builder=ploc,radius=1,max-leaf=1,sah-block=4,traversal=ordered-distance");
 
     info.threaded_build = true;
     info.build = [](const Scene& scene, const AccelSpec& spec) {
