@@ -101,18 +101,27 @@ private:
             });
             for (uint64_t e : evaluations) counts_.distance_evaluations += e;
             action.assign(m, kKeep);
-            std::vector<uint32_t> heads(chunks, 0);
             parallel_for(m, kRoundChunk, threads_, [&](size_t begin, size_t end) {
-                uint32_t h = 0;
                 for (size_t i = begin; i < end; ++i) {
                     const uint32_t j = nn[i];
-                    if (nn[j] != i) continue;
-                    action[i] = i < j ? kHead : kGone;
-                    h += i < j ? 1 : 0;
+                    if (nn[j] == i) action[i] = i < j ? kHead : kGone;
                 }
-                heads[begin / kRoundChunk] = h;
             });
-            uint32_t merges = std::accumulate(heads.begin(), heads.end(), 0u);
+            // Per chunk: heads, and survivors (a head's partner may lie in another chunk).
+            std::vector<uint32_t> heads(chunks, 0), keeps(chunks, 0);
+            auto count_chunks = [&] {
+                parallel_for(m, kRoundChunk, threads_, [&](size_t begin, size_t end) {
+                    uint32_t h = 0, k = 0;
+                    for (size_t i = begin; i < end; ++i) {
+                        h += action[i] == kHead ? 1 : 0;
+                        k += action[i] != kGone ? 1 : 0;
+                    }
+                    heads[begin / kRoundChunk] = h;
+                    keeps[begin / kRoundChunk] = k;
+                });
+                return std::accumulate(heads.begin(), heads.end(), 0u);
+            };
+            uint32_t merges = count_chunks();
             // A chain of ever-wider gaps agrees on one pair a round: pair the rest in order so that
             // a round always removes a fixed share of the clusters (O(n) rounds would be O(n^2)).
             if (uint64_t(merges) * 32 < m) {
@@ -129,21 +138,15 @@ private:
                     nn[open] = i;
                     open = m;
                 }
-                for (size_t c = 0; c < chunks; ++c) {
-                    heads[c] = 0;
-                    for (size_t i = c * kRoundChunk; i < std::min<size_t>(m, (c + 1) * kRoundChunk); ++i)
-                        heads[c] += action[i] == kHead ? 1 : 0;
-                }
-                merges = std::accumulate(heads.begin(), heads.end(), 0u);
+                merges = count_chunks();
             }
             // Survivors in order; the k-th head of the round becomes node n + made + k.
             std::vector<uint32_t> kept_at(chunks), head_at(chunks);
             uint32_t kept = 0, head = made;
             for (size_t c = 0; c < chunks; ++c) {
-                const uint32_t size = uint32_t(std::min<size_t>(m - c * kRoundChunk, kRoundChunk));
                 kept_at[c] = kept;
                 head_at[c] = head;
-                kept += size - heads[c];  // every head removes its partner
+                kept += keeps[c];
                 head += heads[c];
             }
             next.resize(kept);
