@@ -54,7 +54,8 @@ void register_bvh(std::vector<AccelInfo>& registry) {
     // Every object-partition builder with every traversal; sbvh (the slowest build: 11 s on the
     // dragon, 32 s with alpha=0, one thread) with the default traversal and, replicating up to 2N
     // references into one-triangle leaves, with the one that reads the stored split axis.
-    // ploc's tree is traversed like any other: two variants, not five (CI time).
+    // ploc's tree is traversed like any other: ordered-axis (its stored split axis) here and the
+    // radius=1 variant below, not all five traversals (CI time).
     for (const auto& builder : kObjectBvhBuilders)
         for (const auto& traversal : kTraversals)
             if (builder.value != BvhBuilder::Ploc)
