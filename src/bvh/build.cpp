@@ -11,6 +11,7 @@
 
 #include "coverage.h"
 #include "splitter.h"
+#include "thicket/bvh/ploc.h"
 #include "thicket/bvh/reinsertion.h"
 #include "thicket/core/error.h"
 
@@ -61,7 +62,8 @@ std::unique_ptr<Splitter> make_splitter(BuildContext& ctx) {
     case BvhBuilder::BinnedSah: return make_binned_sah_splitter(ctx);
     case BvhBuilder::SweepSah: return make_sweep_sah_splitter(ctx);
     case BvhBuilder::Lbvh: return make_lbvh_splitter(ctx);
-    case BvhBuilder::Sbvh: break;  // build_bvh calls build_sbvh instead
+    case BvhBuilder::Sbvh:  // build_bvh calls build_sbvh instead
+    case BvhBuilder::Ploc: break;  // bottom-up: build_bvh calls build_ploc instead
     }
     throw Error("unknown BVH builder");
 }
@@ -189,8 +191,8 @@ BvhData build_bvh(const BuildPrimitives& prims, const BvhBuildOptions& options) 
     if (prims.bounds.size() != prims.centroids.size()) throw Error("build_bvh: bounds and centroids differ in size");
     if (prims.bounds.size() >= (1ull << 31)) throw Error("build_bvh: more than 2^31 primitives");
     const uint32_t n = uint32_t(prims.bounds.size());
-    if (options.builder == BvhBuilder::Sbvh) {
-        BvhData bvh = build_sbvh(prims, options);
+    if (options.builder == BvhBuilder::Sbvh || options.builder == BvhBuilder::Ploc) {
+        BvhData bvh = options.builder == BvhBuilder::Sbvh ? build_sbvh(prims, options) : build_ploc(prims, options);
         compute_child_order(bvh);
         if (options.optimize == BvhOptimize::Reinsertion) optimize_reinsertion(bvh, options.optimize_passes);
         return bvh;

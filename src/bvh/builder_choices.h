@@ -12,6 +12,7 @@ inline constexpr Choice<BvhBuilder> kBvhBuilders[] = {
     {"sweep-sah", BvhBuilder::SweepSah},
     {"lbvh", BvhBuilder::Lbvh},
     {"sbvh", BvhBuilder::Sbvh},
+    {"ploc", BvhBuilder::Ploc},
 };
 
 /// The builders whose leaves list each primitive once (all but sbvh): for structures that refit
@@ -21,6 +22,7 @@ inline constexpr Choice<BvhBuilder> kObjectBvhBuilders[] = {
     {"binned-sah", BvhBuilder::BinnedSah},
     {"sweep-sah", BvhBuilder::SweepSah},
     {"lbvh", BvhBuilder::Lbvh},
+    {"ploc", BvhBuilder::Ploc},
 };
 
 /// The help of the `builder` option of the structures that take every builder.
@@ -28,7 +30,8 @@ inline constexpr const char* kBvhBuilderHelp =
     "split choice: longest-axis midpoint, binned SAH (Wald 2007), a full SAH sweep, the linear Morton-order builder "
     "(Karras 2012: fastest build, looser tree), or sbvh: spatial splits (Stich et al. 2009: SAH object splits against "
     "binned planes that cut the triangles straddling them, clipped exactly; a triangle may then sit in several "
-    "leaves; alpha and budget below; one thread, the same tree on any)";
+    "leaves; alpha and budget below; one thread, the same tree on any), or ploc: bottom-up clustering (Meister and "
+    "Bittner 2018: mutual nearest neighbours along the Morton curve merge, radius below; leaves cut by the SAH)";
 
 /// The optimizers a built tree can be given (`optimize=`), shared likewise.
 inline constexpr Choice<BvhOptimize> kBvhOptimizers[] = {
@@ -36,7 +39,19 @@ inline constexpr Choice<BvhOptimize> kBvhOptimizers[] = {
     {"reinsertion", BvhOptimize::Reinsertion},
 };
 
-/// The `alpha` and `budget` options of builder=sbvh, shared by every structure that offers it.
+/// The `radius` option of builder=ploc, shared likewise.
+inline OptionInfo ploc_radius_option() {
+    return {"radius",
+            "builder=ploc: clusters searched on each side of a cluster, along the Morton curve, for its nearest "
+            "neighbour (larger: tighter trees, a build slower in proportion)",
+            "16",
+            {},
+            1,
+            256};
+}
+
+/// The `alpha` and `budget` options of builder=sbvh and `radius` of builder=ploc, shared by every
+/// structure that offers them.
 inline std::vector<OptionInfo> sbvh_options() {
     return {real_option("alpha",
                         "builder=sbvh: spatial splits are tried only where the best object split's children overlap "
@@ -45,7 +60,8 @@ inline std::vector<OptionInfo> sbvh_options() {
             real_option("budget",
                         "builder=sbvh: reference growth allowed, at most (1 + budget) N references in all, shared "
                         "down the tree in proportion to the nodes' references; 0: no spatial split",
-                        "0.3", 0.0, double(kMaxReferencesPerPrimitive - 1))};
+                        "0.3", 0.0, double(kMaxReferencesPerPrimitive - 1)),
+            ploc_radius_option()};
 }
 
 /// The `sah-block` option (BvhBuildOptions::sah_block) with its default: 1 for the lecture's
@@ -62,10 +78,11 @@ inline OptionInfo sah_block_option(const char* default_value) {
             16};
 }
 
-/// Reads the sbvh options into `o`.
+/// Reads the sbvh and ploc options into `o`.
 inline void read_sbvh_options(const AccelSpec& spec, BvhBuildOptions& o) {
     o.sbvh_alpha = spec.get_real("alpha");
     o.sbvh_budget = spec.get_real("budget");
+    o.ploc_radius = uint32_t(spec.get_int("radius"));
 }
 
 /// The `optimize` and `passes` options of every structure built on the binary BVH.

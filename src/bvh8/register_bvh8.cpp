@@ -95,6 +95,7 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
     info.variants.push_back("bvh8:builder=sweep-sah,max-leaf=8,leaf-merge=8");
     info.variants.push_back("bvh8:builder=midpoint,max-leaf=1");
     info.variants.push_back("bvh8:builder=lbvh");
+    info.variants.push_back("bvh8:builder=ploc");
     info.variants.push_back("bvh8:quality=low");
     info.variants.push_back("bvh8:quality=high");
     info.variants.push_back("bvh8:quality=high,nodes=compressed,isect=watertight");

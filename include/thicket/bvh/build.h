@@ -42,7 +42,7 @@ void primitive_boxes(uint32_t count, unsigned threads, std::vector<Aabb>& bounds
     });
 }
 
-enum class BvhBuilder { Midpoint, BinnedSah, SweepSah, Lbvh, Sbvh };
+enum class BvhBuilder { Midpoint, BinnedSah, SweepSah, Lbvh, Sbvh, Ploc };
 enum class BvhOptimize { None, Reinsertion };
 
 struct BvhBuildOptions {
@@ -66,6 +66,8 @@ struct BvhBuildOptions {
     /// sbvh: at most (1 + budget) * N references in all (each spatial split adds the references it
     /// cuts in two); 0 makes no spatial split.
     double sbvh_budget = 0.3;
+    /// ploc: clusters searched on each side of a cluster for its nearest neighbour (build_ploc).
+    uint32_t ploc_radius = 16;
 };
 
 /// Bounds of the part of primitive `prim` inside `box` (clipped_bounds() of the primitive set).
