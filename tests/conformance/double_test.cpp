@@ -31,14 +31,19 @@ std::vector<std::string> double_variants() {
 }
 
 #ifdef THICKET_SANITIZED
-constexpr size_t kBruteTestsPerScene = 5'000'000;
+constexpr size_t kBruteTestsPerScene = 2'000'000;
 #else
-constexpr size_t kBruteTestsPerScene = 40'000'000;
+constexpr size_t kBruteTestsPerScene = 8'000'000;
 #endif
+
+/// Shared scenes above this many triangles (the dragon) are left out: each variant builds its
+/// tree over every scene (sbvh takes 11 s on the dragon), and the float suite covers the builders
+/// there; the double code paths are the same on every scene.
+constexpr size_t kLargestSharedScene = 300'000;
 
 /// Rays that double brute force answers on `scene` for about kBruteTestsPerScene triangle tests.
 size_t rays_for(const Scene& scene) {
-    return std::clamp<size_t>(kBruteTestsPerScene / std::max<size_t>(1, scene.primitive_count()), 40, 2000);
+    return std::clamp<size_t>(kBruteTestsPerScene / std::max<size_t>(1, scene.primitive_count()), 40, 1000);
 }
 
 /// The same triangles moved by `offset` on every axis, the moved vertices kept in double (their
@@ -85,6 +90,31 @@ std::string compare_double(const Accel& got, const Accel& want, const std::vecto
     return "";
 }
 
+/// "" when every ray aimed from outside at the centroid of a well-shaped triangle, along its
+/// normal tilted a little, hits something no farther than that centroid (in double, from the
+/// scene's double vertices); else the first ray that does not. Brute force and the BVH share the
+/// triangle and box tests, so this is what catches a fault in those shared parts.
+std::string missed_centroids(const Accel& accel, const Scene& scene) {
+    std::mt19937 rng(7);
+    for (size_t tri = 0; tri < scene.mesh.triangle_count(); tri += 3) {
+        const Vec3d a = scene.mesh.vertex_double(tri, 0), b = scene.mesh.vertex_double(tri, 1),
+                    c = scene.mesh.vertex_double(tri, 2);
+        const Vec3d n = cross(b - a, c - a);
+        const double size = std::sqrt(std::max(dot(b - a, b - a), dot(c - a, c - a)));
+        if (!(length(n) > 0.1 * size * size)) continue;  // thin or degenerate: no well-conditioned aim
+        const Vec3 jitter = random_unit_vector(rng);
+        const Vec3d dir = normalize(normalize(n) + Vec3d(jitter) * 0.3);
+        const Vec3d centroid = (a + b + c) * (1.0 / 3.0);
+        const double distance = 4.0 * size;
+        const RayD ray{centroid + dir * distance, 0.0, -dir, std::numeric_limits<double>::infinity()};
+        const HitD hit = accel.intersect_double(ray);
+        if (!hit.found() || hit.t > distance * (1 + 1e-9))
+            return "triangle " + std::to_string(tri) + ": hit " + std::to_string(hit.prim) + " at t " +
+                   std::to_string(hit.t) + ", its centroid at " + std::to_string(distance);
+    }
+    return "";
+}
+
 class DoublePrecision : public ::testing::TestWithParam<std::string> {
 protected:
     std::string reference_spec() const { return "brute:precision=double,isect=" + parse_accel_spec(GetParam()).get("isect"); }
@@ -92,11 +122,13 @@ protected:
     void check_scene(const Scene& scene, size_t count) {
         SCOPED_TRACE("scene " + scene.name);
         const auto accel = build_accel(GetParam(), scene);
-        const auto brute = build_accel(reference_spec(), scene);
         ASSERT_TRUE(accel->double_precision());
+        // Brute force against itself: what can still fail is its consistency (any-hit, batches).
+        const bool is_reference = accel->spec() == parse_accel_spec(reference_spec()).str();
+        const auto brute = is_reference ? nullptr : build_accel(reference_spec(), scene);
         std::vector<RayD> rays;
         for (const Ray& r : conformance_rays(scene, count)) rays.push_back(to_double(r));
-        EXPECT_EQ(compare_double(*accel, *brute, rays), "");
+        EXPECT_EQ(compare_double(*accel, brute ? *brute : *accel, rays), "");
         // Float rays are widened and the hit rounded: the same answer as the double entry point.
         for (size_t i = 0; i < std::min<size_t>(rays.size(), 200); ++i) {
             const Ray r{to_float(rays[i].org), float(rays[i].tmin), to_float(rays[i].dir), float(rays[i].tmax)};
@@ -121,7 +153,7 @@ TEST_P(DoublePrecision, NastyScenes) {
             }
             continue;
         }
-        check_scene(scene, 1500);
+        check_scene(scene, 600);
     }
 }
 
@@ -130,9 +162,7 @@ TEST_P(DoublePrecision, SharedScenes) {
     if (files.empty()) GTEST_SKIP() << shared_scenes_missing_message();
     for (const std::string& file : files) {
         const Scene& scene = cached_scene(file);
-#ifdef THICKET_SANITIZED
-        if (scene.primitive_count() > 100'000) continue;  // left to the Release job, as Conformance does
-#endif
+        if (scene.primitive_count() > kLargestSharedScene) continue;
         check_scene(scene, rays_for(scene));
     }
 }
@@ -149,7 +179,7 @@ TEST_P(DoublePrecision, FarFromTheOrigin) {
         const auto brute = build_accel(reference_spec(), scene);
         const auto as_float = build_accel("bvh", scene);
         std::vector<RayD> rays;
-        for (const Ray& r : conformance_rays(base, 1500)) rays.push_back(moved_ray(r, offset));
+        for (const Ray& r : conformance_rays(base, 500)) rays.push_back(moved_ray(r, offset));
         EXPECT_EQ(compare_double(*accel, *brute, rays), "");
         size_t float_differs = 0;
         for (const RayD& r : rays) {
@@ -159,6 +189,7 @@ TEST_P(DoublePrecision, FarFromTheOrigin) {
         }
         std::printf("[ offset   ] %s at %.0e: double agrees on every one of %zu rays; float bvh differs on %zu\n",
                     accel->spec().c_str(), offset, rays.size(), float_differs);
+        EXPECT_EQ(missed_centroids(*accel, scene), "") << "a judge that shares no code with the structures";
     }
 }
 
