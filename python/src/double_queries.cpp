@@ -75,8 +75,8 @@ py::dict cast_rays_double(const AccelHandle& h, const py::handle& rays_obj, unsi
                 const HitD hit = in.valid[i] ? h.accel->intersect_double(in.rays[i]) : HitD{};
                 const bool found = hit.found();
                 const RayD& r = in.rays[i];
-                const Vec3 n = found ? h.scene->normal(Ray{to_float(r.org), 0.0f, to_float(r.dir), kInfinity},
-                                                       to_float(hit))
+                const Vec3 n = found ? h.scene->normal(Ray{r.org.to_float(), 0.0f, r.dir.to_float(), kInfinity},
+                                                       to_hit(hit))
                                      : Vec3{0, 0, 0};
                 t[i] = found ? hit.t : std::numeric_limits<double>::infinity();
                 geom[i] = h.scene->geometry_of(hit.prim);

@@ -36,7 +36,7 @@ TEST(Spec, DefaultsAndCanonicalForm) {
 TEST(Spec, ErrorsListWhatIsAllowed) {
     EXPECT_NE(error_of("octopus").find("known structures: brute, bvh"), std::string::npos) << error_of("octopus");
     EXPECT_NE(error_of("bvh:colour=red")
-                  .find("allowed options: builder, bins, max-leaf, sah-block, traversal, alpha, budget, optimize, "
+                  .find("allowed options: builder, bins, max-leaf, sah-block, traversal, precision, alpha, budget, optimize, "
                         "passes, isect"),
               std::string::npos)
         << error_of("bvh:colour=red");

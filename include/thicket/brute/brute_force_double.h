@@ -21,9 +21,9 @@ public:
     Aabb bounds() const override { return outward_float_box(bounds_); }
     Hit intersect(const Ray& ray) const override {
         NoCounters none;
-        return to_float(closest(to_double(ray), none));
+        return to_hit(closest(to_double(ray), none));
     }
-    Hit intersect(const Ray& ray, RayCounters& c) const override { return to_float(closest(to_double(ray), c)); }
+    Hit intersect(const Ray& ray, RayCounters& c) const override { return to_hit(closest(to_double(ray), c)); }
     bool occluded(const Ray& ray) const override {
         NoCounters none;
         return any(to_double(ray), none);

@@ -37,7 +37,7 @@ public:
         primitive_boxes(
             uint32_t(prims_.size()), options.threads, bounds, centroids,
             [&](uint32_t i) { return outward_float_box(prims_.bounds(i)); },
-            [&](uint32_t i) { return to_float(prims_.centroid(i)); });
+            [&](uint32_t i) { return prims_.centroid(i).to_float(); });
         // No clip function: spatial splits (sbvh) cut the float boxes, which is conservative.
         data_ = build_bvh({bounds, centroids, {}}, options);
         nodes_.resize(data_.nodes_used);
@@ -58,9 +58,9 @@ public:
     }
     Hit intersect(const Ray& ray) const override {
         NoCounters none;
-        return to_float(closest(to_double(ray), none));
+        return to_hit(closest(to_double(ray), none));
     }
-    Hit intersect(const Ray& ray, RayCounters& c) const override { return to_float(closest(to_double(ray), c)); }
+    Hit intersect(const Ray& ray, RayCounters& c) const override { return to_hit(closest(to_double(ray), c)); }
     bool occluded(const Ray& ray) const override {
         NoCounters none;
         return any(to_double(ray), none);

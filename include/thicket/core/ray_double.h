@@ -54,7 +54,7 @@ inline RayD to_double(const Ray& r) {
             r.tmax == kInfinity ? inf : double(r.tmax)};
 }
 /// The double hit rounded to float (t beyond float's range becomes +inf).
-inline Hit to_float(const HitD& h) { return {float(h.t), float(h.u), float(h.v), h.prim}; }
+inline Hit to_hit(const HitD& h) { return {float(h.t), float(h.u), float(h.v), h.prim}; }
 /// Starts a closest-hit query: the search interval's far end is the ray's tmax.
 constexpr HitD miss_for(const RayD& ray) { return HitD{ray.tmax, 0.0, 0.0, kNoPrim}; }
 

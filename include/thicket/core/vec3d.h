@@ -40,7 +40,4 @@ constexpr DVec3 max(DVec3 a, DVec3 b) { return {std::max(a.x, b.x), std::max(a.y
 /// The name the double-precision structures and meshes use.
 using Vec3d = DVec3;
 
-/// The nearest float vector (what the float structures of the same scene see).
-inline Vec3 to_float(Vec3d v) { return {float(v.x), float(v.y), float(v.z)}; }
-
 }  // namespace thicket
