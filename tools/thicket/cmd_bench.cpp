@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "bench_commands.h"
+#include "bench_precision.h"
 #include "thicket/bench/animate.h"
 #include "thicket/bench/bench_json.h"
 #include "thicket/bench/bench_tables.h"
