@@ -42,7 +42,10 @@ Rows float32_rows(const py::handle& obj, const char* what, std::initializer_list
         throw py::value_error(std::string(what) + ": expected shape " + widths_text(widths) + ", got shape " + received);
     if (!a.dtype().is(py::dtype::of<float>()))
         throw py::value_error(std::string(what) + ": expected dtype float32, got shape " + received +
-                              " (convert with .astype(numpy.float32))");
+                              " (convert with .astype(numpy.float32)" +
+                              (std::string(what) == "rays" ? std::string("; cast_rays and test_occlusions take float64 rays "
+                                                                         "on a structure built with precision=double)")
+                                                           : std::string(")")));
     Rows r;
     // Copies only a strided (or broadcast) array, its memory checked first; a C-contiguous
     // float32 array is used in place.

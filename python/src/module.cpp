@@ -141,6 +141,9 @@ PYBIND11_MODULE(_thicket, m) {
                                "Scene: the scene it was built over, or last refitted to (kept alive with it)")
         .def_property_readonly("bounds", [](const AccelHandle& h) { return bounds_tuple(h.accel->bounds()); },
                                "((xmin, ymin, zmin), (xmax, ymax, zmax)): the box around its primitives, floats")
+        .def_property_readonly("double_precision", [](const AccelHandle& h) { return h.accel->double_precision(); },
+                               "bool: built with precision=double (brute, bvh): cast_rays and test_occlusions then "
+                               "take float64 rays too and trace them in double (t_hit and primitive_uvs float64)")
         .def("stats", [](const AccelHandle& h) { return stats_dict(h.accel->stats()); },
              "stats() -> dict: spec (str), primitives, nodes, leaves, max_depth, bytes, primitive_bytes (ints), "
              "sah_cost, build_ms (floats), extra (dict of the structure's own figures)")
@@ -165,7 +168,9 @@ PYBIND11_MODULE(_thicket, m) {
              "dz [tmin tmax]). Closest hit of each (Open3D's RaycastingScene.cast_rays): t_hit float32 (...) (inf on "
              "a miss), geometry_ids uint32 (...), primitive_ids uint32 (...) (INVALID_ID on a miss), primitive_uvs "
              "float32 (..., 2), primitive_normals float32 (..., 3). coherent=True: camera rays, traced in tiles. nthreads: 0 (one per core) "
-             "or a thread count up to 2^32 - 1, as the CLI's -j; answers that do not fit in memory are a MemoryError")
+             "or a thread count up to 2^32 - 1, as the CLI's -j; answers that do not fit in memory are a MemoryError. "
+             "float64 rays: traced in double by a structure built with precision=double (t_hit and primitive_uvs "
+             "then float64), refused by the others with a ValueError naming precision=double")
         .def("test_occlusions", [](const AccelHandle& h, const py::handle& rays, const py::handle& tnear,
                                    const py::handle& tfar, const py::handle& nthreads, const py::handle& coherent) {
             return test_occlusions(h, rays, float_argument(tnear, "tnear"), float_argument(tfar, "tfar"),
@@ -173,7 +178,8 @@ PYBIND11_MODULE(_thicket, m) {
         }, "rays"_a, "tnear"_a = py::none(), "tfar"_a = py::none(), "nthreads"_a = 0, "coherent"_a = false,
              "test_occlusions(rays, tnear=None, tfar=None, nthreads=0, coherent=False) -> bool ndarray. rays: "
              "float32 (..., 6) or (..., 8) (ox oy oz dx dy dz [tmin tmax]); answers whether anything is hit "
-             "within [tnear, tfar] (floats; default the rays' own interval, else [0, inf)), bool of shape (...)")
+             "within [tnear, tfar] (floats; default the rays' own interval, else [0, inf)), bool of shape (...). "
+             "float64 rays: as cast_rays (precision=double structures only)")
         .def("count_intersections", [](const AccelHandle& h, const py::handle& rays, const py::handle& nthreads) {
             return count_intersections(h, rays, thread_count(nthreads));
         }, "rays"_a, "nthreads"_a = 0,

@@ -1,5 +1,7 @@
 #include "queries.h"
 
+#include "double_queries.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -119,6 +121,7 @@ struct CastOutputs {
 }  // namespace
 
 py::dict cast_rays(AccelHandle& h, const py::handle& rays_obj, unsigned threads, bool coherent) {
+    if (is_float64_array(rays_obj)) return cast_rays_double(h, rays_obj, threads);
     const Rows rows = float32_rows(rays_obj, "rays", {6, 8});
     check_answer_memory(rows, 4 + 4 + 4 + 8 + 12, "cast_rays");  // t, two ids, uv, normal
     const std::shared_ptr<const std::vector<Vec3>> normal_table = triangle_normals(h, threads);
@@ -172,6 +175,7 @@ py::dict cast_rays(AccelHandle& h, const py::handle& rays_obj, unsigned threads,
 
 py::array test_occlusions(const AccelHandle& h, const py::handle& rays_obj, std::optional<float> tnear,
                           std::optional<float> tfar, unsigned threads, bool coherent) {
+    if (is_float64_array(rays_obj)) return test_occlusions_double(h, rays_obj, tnear, tfar, threads);
     const Rows rows = float32_rows(rays_obj, "rays", {6, 8});
     check_interval_arguments(rows, tnear, tfar);
     check_answer_memory(rows, sizeof(bool), "test_occlusions");

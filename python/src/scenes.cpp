@@ -87,12 +87,17 @@ std::shared_ptr<Scene> scene_from_arrays(const py::array& vertices, const py::ar
     // the copy is made once; add_mesh would make it twice.
     std::vector<Vec3>& positions = scene->mesh.positions;
     positions.reserve(nv);
+    // float64 vertices are kept as given too, for precision=double structures (float ones see
+    // them rounded, as before).
+    const bool keep_double = vertices.dtype().is(py::dtype::of<double>());
+    if (keep_double) scene->mesh.positions_double.reserve(nv);
     for_each_block<double>(vertices, "vertices", [&](const double* rows, size_t first, size_t count) {
         for (size_t i = 0; i < count; ++i) {
             const double* p = rows + 3 * i;
             if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
                 throw py::value_error("vertices: row " + std::to_string(first + i) + " is not finite");
             positions.push_back({float(p[0]), float(p[1]), float(p[2])});
+            if (keep_double) scene->mesh.positions_double.push_back({p[0], p[1], p[2]});
         }
     });
     scene->mesh.indices.reserve(3 * nt);

@@ -11,6 +11,7 @@ import numpy.typing as npt
 _Path = Union[str, bytes, "os.PathLike[str]", "os.PathLike[bytes]"]
 _Bounds = Tuple[Tuple[float, float, float], Tuple[float, float, float]]
 _Float32Array = npt.NDArray[np.float32]
+_Float64Array = npt.NDArray[np.float64]  # rays for precision=double structures
 _UInt32Array = npt.NDArray[np.uint32]
 _Vector3 = Union[npt.ArrayLike, Any]  # 3 numbers: a list, a numpy array, an Open3D Tensor
 _Triple = Tuple[float, float, float]
@@ -102,6 +103,9 @@ class Accel:
     def scene(self) -> Scene: ...
     @property
     def bounds(self) -> _Bounds: ...
+    @property
+    def double_precision(self) -> bool:
+        """Built with precision=double: cast_rays and test_occlusions take float64 rays too."""
     def stats(self) -> Dict[str, Any]:
         """spec, primitives, nodes, leaves, max_depth, bytes, primitive_bytes, sah_cost, build_ms, extra."""
     def save(self, path: _Path, overwrite: bool = False) -> None: ...
@@ -116,9 +120,10 @@ class Accel:
         """Moves an instance to a (3, 4) or (4, 4) affine transform, rebuilding only the top level."""
     def locate(self, primitive_ids: npt.ArrayLike) -> _Located:
         """Flattened primitive ids (...) of a structure with instances -> instance, geometry and primitive ids (...)."""
-    def cast_rays(self, rays: _Float32Array, nthreads: int = 0, coherent: bool = False) -> _CastResult:
-        """rays float32 (..., 6) or (..., 8) -> closest hits, each array of the rays' leading shape."""
-    def test_occlusions(self, rays: _Float32Array, tnear: Optional[float] = None, tfar: Optional[float] = None,
+    def cast_rays(self, rays: Union[_Float32Array, _Float64Array], nthreads: int = 0, coherent: bool = False) -> _CastResult:
+        """rays float32 (..., 6) or (..., 8) -> closest hits, each array of the rays' leading shape; float64 rays
+        on a precision=double structure only (t_hit and primitive_uvs then float64)."""
+    def test_occlusions(self, rays: Union[_Float32Array, _Float64Array], tnear: Optional[float] = None, tfar: Optional[float] = None,
                         nthreads: int = 0, coherent: bool = False) -> npt.NDArray[np.bool_]:
         """rays float32 (..., 6) or (..., 8) -> bool (...)."""
     def count_intersections(self, rays: _Float32Array, nthreads: int = 0) -> npt.NDArray[np.int32]:

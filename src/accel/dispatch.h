@@ -10,9 +10,11 @@
 #include <utility>
 
 #include "thicket/accel/registry.h"
+#include "thicket/core/error.h"
 #include "thicket/prims/mixed.h"
 #include "thicket/prims/primitive_set.h"
 #include "thicket/prims/triangles.h"
+#include "thicket/prims/triangles_double.h"
 
 namespace thicket {
 
@@ -21,6 +23,33 @@ inline constexpr Choice<TriangleTest> kTriangleTests[] = {
     {"moller", TriangleTest::Moller},
     {"watertight", TriangleTest::Watertight},
 };
+
+/// The `precision` option of brute and bvh: float (the structures every other option describes)
+/// or double (vertices, boxes and ray arithmetic in double; triangle scenes only).
+enum class Precision { Float, Double };
+inline constexpr Choice<Precision> kPrecisions[] = {
+    {"float", Precision::Float},
+    {"double", Precision::Double},
+};
+inline OptionInfo precision_option() {
+    return choice_option("precision",
+                         "float, or double: vertices (the file's own doubles when it has them), boxes and ray "
+                         "arithmetic in double, for coordinates far from the origin; triangle scenes only",
+                         Precision::Float, kPrecisions);
+}
+inline bool wants_double(const AccelSpec& spec) { return spec.choice("precision", kPrecisions) == Precision::Double; }
+
+/// Calls make(TrianglesD<Test>) for the triangle test `spec` asks for; throws Error naming the
+/// spec and scene for a scene with shapes (their double forms do not exist).
+template <class Make>
+std::unique_ptr<Accel> with_double_triangles(const Scene& scene, const AccelSpec& spec, Make&& make) {
+    if (scene.has_shapes())
+        throw Error(spec.str() + ": precision=double takes triangle scenes only, and '" + scene.name + "' has " +
+                    std::to_string(scene.shapes.size()) + " shapes (use precision=float)");
+    if (spec.choice("isect", kTriangleTests) == TriangleTest::Watertight)
+        return make(TrianglesD<TriangleTest::Watertight>(scene.mesh));
+    return make(TrianglesD<TriangleTest::Moller>(scene.mesh));
+}
 
 /// Calls make(prims) with the primitive set matching `spec` for `scene`, returns its result.
 template <class Make>

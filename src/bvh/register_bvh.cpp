@@ -1,6 +1,7 @@
 #include "accel/dispatch.h"
 #include "bvh/builder_choices.h"
 #include "thicket/bvh/bvh.h"
+#include "thicket/bvh/bvh_double.h"
 #include "thicket/core/error.h"
 
 namespace thicket {
@@ -49,6 +50,7 @@ void register_bvh(std::vector<AccelInfo>& registry) {
                       "the ray's sign on the stored split axis, or on the axis of widest child-centroid separation",
                       BvhTraversal::OrderedDistance, kTraversals),
     };
+    info.options.push_back(precision_option());
     for (OptionInfo& o : sbvh_options()) info.options.push_back(std::move(o));
     for (OptionInfo& o : bvh_optimize_options()) info.options.push_back(std::move(o));
     // Every object-partition builder with every traversal; sbvh (the slowest build: 11 s on the
@@ -71,10 +73,17 @@ void register_bvh(std::vector<AccelInfo>& registry) {
     info.variants.push_back("bvh:builder=ploc,radius=1,max-leaf=1,sah-block=4,traversal=ordered-distance");
 
     info.threaded_build = true;
-    info.build = [](const Scene& scene, const AccelSpec& spec) {
+    info.build = [](const Scene& scene, const AccelSpec& spec) -> std::unique_ptr<Accel> {
+        if (wants_double(spec))
+            return with_double_triangles(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
+                return std::make_unique<BvhD<decltype(prims)::kTest>>(std::move(prims), build_options(spec),
+                                                                      traversal_option(spec));
+            });
         return make_structure<Bvh>(scene, spec, build_options(spec), traversal_option(spec));
     };
-    info.load = [](std::istream& in, const Scene& scene, const AccelSpec& spec) {
+    info.load = [](std::istream& in, const Scene& scene, const AccelSpec& spec) -> std::unique_ptr<Accel> {
+        // A double BVH is never saved (Accel::save refuses it), so no valid file names one.
+        if (wants_double(spec)) throw Error(spec.str() + ": a precision=double BVH cannot be loaded from a file");
         return make_structure<Bvh>(scene, spec, read_bvh(in, scene.primitive_count()), traversal_option(spec));
     };
     registry.push_back(std::move(info));

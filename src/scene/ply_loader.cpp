@@ -388,6 +388,9 @@ private:
             if (xyz_[a] == npos || v.props[xyz_[a]].is_list)
                 fail_line(v.line, std::string("element 'vertex' has no scalar property '") + axes[a] + "'");
         }
+        // Any coordinate stored as double: the mesh keeps them all in double (positions_double)
+        // beside the float positions, for `precision=double` structures.
+        for (int a = 0; a < 3; ++a) keep_double_ = keep_double_ || v.props[xyz_[a]].type == Scalar::f64;
         if (v.count > std::numeric_limits<uint32_t>::max())
             fail_line(v.line,
                       "too many vertices (" + std::to_string(v.count) + "); at most 2^32-1 are supported");
@@ -504,10 +507,12 @@ private:
         const bool is_face = &e == &elements_[face_elem_];
         const double vcount = double(elements_[vertex_elem_].count);
         if (is_vertex) mesh_.positions.reserve(plausible_rows(src, e));
+        if (is_vertex && keep_double_) mesh_.positions_double.reserve(plausible_rows(src, e));
         if (is_face) mesh_.indices.reserve(plausible_rows(src, e) * 3);
         std::vector<uint32_t> poly;
         for (uint64_t row = 0; row < e.count; ++row) {
             Vec3 v;
+            Vec3d vd;
             for (size_t pi = 0; pi < e.props.size(); ++pi) {
                 const Property& p = e.props[pi];
                 double value = 0;
@@ -516,7 +521,10 @@ private:
                         fail(row_context(e, row) + ", property '" + p.name + "': " + src.problem());
                     if (is_vertex) {
                         for (int a = 0; a < 3; ++a)
-                            if (xyz_[a] == pi) v[a] = float(value);
+                            if (xyz_[a] == pi) {
+                                v[a] = float(value);
+                                vd[a] = value;
+                            }
                     }
                     continue;
                 }
@@ -550,7 +558,10 @@ private:
                     mesh_.indices.push_back(poly[k]);
                 }
             }
-            if (is_vertex) mesh_.positions.push_back(v);
+            if (is_vertex) {
+                mesh_.positions.push_back(v);
+                if (keep_double_) mesh_.positions_double.push_back(vd);
+            }
         }
     }
 
@@ -564,6 +575,7 @@ private:
     size_t header_lines_ = 0;
     size_t vertex_elem_ = npos, face_elem_ = npos, index_prop_ = npos;
     size_t xyz_[3] = {npos, npos, npos};
+    bool keep_double_ = false;
     TriangleMesh mesh_;
     std::vector<uint32_t>* polygon_sizes_ = nullptr;
 };

@@ -154,6 +154,15 @@ uint32_t Scene::add_mesh(const TriangleMesh& m) {
     const auto base = uint32_t(mesh.positions.size());
     geometries[id].vertex_first = base;
     geometries[id].vertex_count = uint32_t(m.positions.size());
+    if (!m.positions_double.empty() || !mesh.positions_double.empty()) {
+        // Once any mesh brings double coordinates, the scene keeps one double per position (the
+        // float ones widened), so that vertex_double() indexes one array.
+        for (size_t i = mesh.positions_double.size(); i < base; ++i) mesh.positions_double.emplace_back(mesh.positions[i]);
+        if (m.positions_double.size() == m.positions.size())
+            mesh.positions_double.insert(mesh.positions_double.end(), m.positions_double.begin(), m.positions_double.end());
+        else
+            for (const Vec3& p : m.positions) mesh.positions_double.emplace_back(p);
+    }
     mesh.positions.insert(mesh.positions.end(), m.positions.begin(), m.positions.end());
     // Not reserve(size + 3 * tris): an exact reserve per mesh reallocates everything for each of
     // N meshes (O(N^2)); insert's geometric growth keeps adding meshes linear.
@@ -202,6 +211,9 @@ void Scene::set_vertices(uint32_t id, std::span<const Vec3> positions) {
                         std::to_string(p.y) + ", " + std::to_string(p.z) + "), not finite");
     }
     std::copy(positions.begin(), positions.end(), mesh.positions.begin() + g.vertex_first);
+    // The moved vertices are float: their double coordinates become the float ones widened.
+    if (mesh.positions_double.size() == mesh.positions.size())
+        for (size_t i = 0; i < positions.size(); ++i) mesh.positions_double[g.vertex_first + i] = Vec3d(positions[i]);
 }
 
 uint32_t Scene::add_shape(const Shape& s) { return add_shapes({&s, 1}); }

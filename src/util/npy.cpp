@@ -344,6 +344,21 @@ NpyFloatArray read_npy_matrix(const std::string& path, size_t cols) {
     return read_npy_float(path);
 }
 
+std::vector<double> read_npy_matrix_double(const std::string& path, size_t cols) {
+    const NpyHeader peek = read_npy_header(path);
+    if (peek.descr != "<f8") {
+        const NpyFloatArray narrow = read_npy_matrix(path, cols);  // '<f4', or refused with its reason
+        return std::vector<double>(narrow.values.begin(), narrow.values.end());
+    }
+    if (peek.shape.size() != 2 || peek.shape[1] != cols)
+        throw Error(path + ": array shape " + shape_repr(peek.shape) + " is not (N, " + std::to_string(cols) + ")");
+    std::ifstream in;
+    const NpyHeader h = open_array(path, in, 8);
+    std::vector<double> values(h.element_count());
+    read_bytes(path, in, values.data(), values.size() * 8);
+    return values;
+}
+
 std::vector<uint8_t> read_npy_u8(const std::string& path) {
     const NpyHeader peek = read_npy_header(path);
     if (peek.descr != "|u1" && peek.descr != "|b1")

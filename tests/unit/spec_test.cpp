@@ -30,13 +30,13 @@ TEST(Spec, DefaultsAndCanonicalForm) {
     EXPECT_EQ(parse_accel_spec(t.str()).str(), t.str()) << "canonical form parses to itself";
     EXPECT_EQ(t.str(),
               "bvh:alpha=1e-3,bins=16,budget=0.3,builder=binned-sah,isect=moller,max-leaf=8,optimize=none,passes=3,"
-              "radius=16,sah-block=1,traversal=stack");
+              "precision=float,radius=16,sah-block=1,traversal=stack");
 }
 
 TEST(Spec, ErrorsListWhatIsAllowed) {
     EXPECT_NE(error_of("octopus").find("known structures: brute, bvh"), std::string::npos) << error_of("octopus");
     EXPECT_NE(error_of("bvh:colour=red")
-                  .find("allowed options: builder, bins, max-leaf, sah-block, traversal, alpha, budget, radius, optimize, "
+                  .find("allowed options: builder, bins, max-leaf, sah-block, traversal, precision, alpha, budget, radius, optimize, "
                         "passes, isect"),
               std::string::npos)
         << error_of("bvh:colour=red");

@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "bench_commands.h"
+#include "bench_precision.h"
 #include "thicket/bench/animate.h"
 #include "thicket/bench/bench_json.h"
 #include "thicket/bench/bench_tables.h"
@@ -47,6 +48,8 @@ struct BenchArgs {
     std::string motion = "bend";
     bool motion_given = false;
     bool reps_given = false;
+    double offset = 0.0;  // --offset: the precision=double figures instead (bench_precision.h)
+    bool offset_given = false;
 };
 
 // A tracer of every spec asked for (parse_accel_specs(): `all` expanded, duplicates dropped,
@@ -144,6 +147,7 @@ int run_animate(const BenchArgs& args) {
 
 int run_bench(const BenchArgs& args) {
     if (args.animate != 0) return run_animate(args);
+    if (args.offset_given) return run_precision_bench(args.scenes, args.offset, args.reps, args.threads);
     if (args.motion_given) throw Error("--motion goes with --animate (the motion of an animated sequence)");
     // Check every option before the slow work, so a typo costs nothing.
     const bool own_rays = !args.ray_files.empty() || !args.any_ray_files.empty();
@@ -337,6 +341,13 @@ Command add_bench_command(CLI::App& app) {
         ->default_str("1000")
         ->type_name("MS");
     cmd->add_option("--json", args->json, "also write every row as JSON to FILE")->type_name("FILE");
+    cmd->add_option("--offset", args->offset,
+                    "instead of the standard bench, the precision=double figures: bvh:precision=double's time per "
+                    "ray against the float bvh on the primary and diffuse sets (and the ratio), then, unless D is 0, "
+                    "the scene moved by D on every axis (e.g. 1e7): how many rays the double and the float bvh answer "
+                    "unlike double brute force")
+        ->type_name("D")
+        ->each([args](const std::string&) { args->offset_given = true; });
     cmd->add_flag("--markdown", args->markdown, "print the tables as Markdown");
     cmd->add_flag("--no-embree", args->no_embree, "leave Embree out (no ratios, no agreement)");
     cmd->add_flag("-f,--force", args->force, "overwrite the --json file if it exists");

@@ -3,12 +3,14 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 
 #include "common.h"
 #include "thicket/accel/ray_rows.h"
 #include "thicket/core/error.h"
 #include "thicket/util/input_file.h"
 #include "thicket/util/npy.h"
+#include "thicket/util/parallel.h"
 #include "thicket/util/progress.h"
 
 namespace thicket::cli {
@@ -73,10 +75,62 @@ void write_crossings(const TraceArgs& args, const std::string& output, const Acc
                       lists.hits.size(), records);
 }
 
+/// Closest or any hit of float64 rays through a precision=double structure: hits written with t,
+/// u and v in float64 (records t '<f8', prim '<u4', u '<f8', v '<f8'), occlusion flags as uint8.
+int run_trace_double(const TraceArgs& args, const std::string& output, const Scene& scene, const AccelSpec& spec) {
+    const std::vector<double> values = read_npy_matrix_double(args.rays, 8);
+    const size_t n = values.size() / 8;
+    std::printf("rays    %s: %zu float64 rays, traced in double\n", args.rays.c_str(), n);
+    const std::unique_ptr<Accel> accel = make_accel_verbose(args.accel, spec, scene, args.threads);
+    std::vector<RayD> rays(n);
+    std::vector<uint8_t> valid(n);
+    for (size_t i = 0; i < n; ++i) valid[i] = make_ray_double(&values[8 * i], rays[i]) ? 1 : 0;
+    const auto start = std::chrono::steady_clock::now();
+    size_t found = 0, invalid = 0;
+    std::vector<HitD> hits(args.any_hit ? 0 : n);
+    std::vector<uint8_t> occluded(args.any_hit ? n : 0);
+    parallel_for(n, kBatchGrain, args.threads, [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) {
+            if (args.any_hit)
+                occluded[i] = valid[i] && accel->occluded_double(rays[i]) ? 1 : 0;
+            else
+                hits[i] = valid[i] ? accel->intersect_double(rays[i]) : HitD{};
+        }
+    });
+    const double seconds = ms_since(start) / 1000.0;
+    for (size_t i = 0; i < n; ++i) {
+        invalid += !valid[i];
+        found += args.any_hit ? occluded[i] : hits[i].found();
+    }
+    std::printf("trace   %s %s rays in %s: %zu %s, %zu not\n", args.any_hit ? "any-hit" : "closest-hit",
+                format_si(double(n)).c_str(), format_duration(seconds).c_str(), found,
+                args.any_hit ? "occluded" : "hit", n - found);
+    if (invalid) std::printf("note    %zu rays were invalid and count as misses\n", invalid);
+    if (args.any_hit) {
+        write_npy_u8(output, occluded);
+    } else {
+        std::vector<unsigned char> records(n * 28);
+        for (size_t i = 0; i < n; ++i) {
+            unsigned char* r = records.data() + 28 * i;
+            const double t = hits[i].found() ? hits[i].t : std::numeric_limits<double>::infinity();
+            std::memcpy(r, &t, 8);
+            std::memcpy(r + 8, &hits[i].prim, 4);
+            std::memcpy(r + 12, &hits[i].u, 8);
+            std::memcpy(r + 20, &hits[i].v, 8);
+        }
+        write_npy_records(output, {{"t", "<f8"}, {"prim", "<u4"}, {"u", "<f8"}, {"v", "<f8"}}, n, records);
+    }
+    std::printf("wrote   %s\n", args.output.c_str());
+    return 0;
+}
+
 int run_trace(const TraceArgs& args) {
     if (args.any_hit + args.count + args.all > 1) throw Error("trace: choose one of --any-hit, --count and --all");
     const std::optional<AccelSpec> spec = validate_accel_choice(args.accel);
     const std::string output = prepare_output(args.output, args.force, {args.scene, args.rays, args.accel.load});
+    const bool double_spec = spec && spec->options.count("precision") && spec->get("precision") == "double";
+    if (double_spec && !args.count && !args.all && read_npy_header(args.rays).descr == "<f8")
+        return run_trace_double(args, output, load_scene_verbose(args.scene), *spec);
     const NpyFloatArray rays = read_npy_matrix(args.rays, 8);
     const size_t n = rays.shape[0];
     std::printf("rays    %s: %zu rays\n", args.rays.c_str(), n);
@@ -131,7 +185,9 @@ int run_trace(const TraceArgs& args) {
 Command add_trace_command(CLI::App& app) {
     auto args = std::make_shared<TraceArgs>();
     CLI::App* cmd = app.add_subcommand("trace", "trace the rays of a .npy file through a structure built over SCENE");
-    cmd->footer("Input: float32 (or float64) array of shape (N, 8), one ray per row: ox oy oz dx dy dz tmin tmax; "
+    cmd->footer("Input: float32 (or float64) array of shape (N, 8), one ray per row: ox oy oz dx dy dz tmin tmax "
+                "(float64 rays are rounded to float32, except through a structure built with precision=double "
+                "(brute, bvh), which traces them in double and writes t, u and v as float64); "
                 "hits are accepted for tmin <= t <= tmax, t in units of the direction's length. A row with a NaN, "
                 "an infinite origin or direction component, a zero direction or tmin > tmax is answered as a "
                 "miss.\nOutput: a structured array of shape (N,) with fields t (float32, +inf on a miss), prim "

@@ -16,6 +16,7 @@
 #include "thicket/core/aabb.h"
 #include "thicket/core/closest_point.h"
 #include "thicket/core/ray.h"
+#include "thicket/core/ray_double.h"
 #include "thicket/core/sah.h"
 #include "thicket/core/traversal_record.h"
 #include "thicket/core/tree_figures.h"
@@ -144,6 +145,23 @@ public:
     virtual void refit(const Scene& scene, unsigned threads = 0);
     /// Whether refit() is supported by this structure (bvh, bvh8, obb).
     virtual bool refittable() const { return false; }
+
+    /// Whether the structure was built with `precision=double` (brute, bvh): vertices, boxes and
+    /// ray arithmetic in double. Such a structure answers float rays too (widened exactly, the hit
+    /// rounded back to float); the double entry points below are where its precision shows.
+    virtual bool double_precision() const { return false; }
+    /// Closest hit of a double-precision ray within [ray.tmin, ray.tmax]. Answered by structures
+    /// with double_precision() only: the others throw Error naming the spec and saying to build
+    /// with `precision=double` (a float structure would round the ray and lose what it is for).
+    /// The ray must be meaningful (make_ray_double()).
+    virtual HitD intersect_double(const RayD& ray) const;
+    /// Is anything hit within [ray.tmin, ray.tmax]? Same contract as intersect_double().
+    virtual bool occluded_double(const RayD& ray) const;
+    /// Batch forms on options.threads threads: hits[i] is intersect_double(rays[i]), occluded[i]
+    /// 1 if occluded_double(rays[i]). Throws Error if the spans differ in size, or before tracing
+    /// anything if the structure is not double_precision().
+    void intersect_double(std::span<const RayD> rays, std::span<HitD> hits, const BatchOptions& options = {}) const;
+    void occluded_double(std::span<const RayD> rays, std::span<uint8_t> occluded, const BatchOptions& options = {}) const;
 
     /// Canonical spec string and build time, set by build_accel()/load_accel().
     const std::string& spec() const { return spec_; }

@@ -8,32 +8,9 @@
 #include <utility>
 
 #include "thicket/core/aabb.h"
+#include "thicket/core/vec3d.h"
 
 namespace thicket {
-
-struct DVec3 {
-    double x = 0, y = 0, z = 0;
-
-    constexpr DVec3() = default;
-    constexpr DVec3(double x_, double y_, double z_) : x(x_), y(y_), z(z_) {}
-    constexpr explicit DVec3(Vec3 v) : x(v.x), y(v.y), z(v.z) {}
-
-    constexpr double operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
-    constexpr double& operator[](int i) { return i == 0 ? x : (i == 1 ? y : z); }
-    constexpr DVec3 operator+(DVec3 b) const { return {x + b.x, y + b.y, z + b.z}; }
-    constexpr DVec3 operator-(DVec3 b) const { return {x - b.x, y - b.y, z - b.z}; }
-    constexpr DVec3 operator*(double s) const { return {x * s, y * s, z * s}; }
-    constexpr DVec3 operator/(double s) const { return {x / s, y / s, z / s}; }
-    constexpr DVec3 operator-() const { return {-x, -y, -z}; }
-    constexpr Vec3 to_float() const { return {float(x), float(y), float(z)}; }
-};
-
-constexpr double dot(DVec3 a, DVec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-constexpr DVec3 cross(DVec3 a, DVec3 b) {
-    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-inline double length(DVec3 v) { return std::sqrt(dot(v, v)); }
-inline DVec3 normalize(DVec3 v) { return v / length(v); }
 
 inline constexpr double kTwoPi = 6.283185307179586476925286766559;
 

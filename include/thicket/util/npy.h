@@ -40,6 +40,9 @@ NpyHeader read_npy_header(const std::string& path);
 NpyFloatArray read_npy_float(const std::string& path);
 /// Same, and requires the shape (N, cols).
 NpyFloatArray read_npy_matrix(const std::string& path, size_t cols);
+/// Reads an array of shape (N, cols) and dtype '<f8' (or '<f4', widened exactly) as doubles, in
+/// C order: the rays of `thicket trace` for a precision=double structure.
+std::vector<double> read_npy_matrix_double(const std::string& path, size_t cols);
 /// Reads a 1-D array of dtype '|u1' or '|b1'.
 std::vector<uint8_t> read_npy_u8(const std::string& path);
 /// Reads a 1-D array of the hits dtype written by write_npy_hits(); t, u, v, prim as stored.

@@ -1,0 +1,47 @@
+// Accel's double-precision entry points: refused by float structures, batched for double ones.
+#include <string>
+
+#include "thicket/accel/accel.h"
+#include "thicket/core/error.h"
+#include "thicket/util/parallel.h"
+
+namespace thicket {
+
+namespace {
+
+[[noreturn]] void refuse_double(const std::string& spec) {
+    throw Error("structure '" + spec +
+                "' traces float rays only: build it with precision=double (brute or bvh, e.g. "
+                "'bvh:precision=double') for double-precision rays");
+}
+
+void check_double_sizes(const char* query, size_t rays, size_t answers) {
+    if (rays != answers)
+        throw Error(std::string(query) + " batch: " + std::to_string(rays) + " rays but room for " +
+                    std::to_string(answers) + " answers");
+}
+
+}  // namespace
+
+HitD Accel::intersect_double(const RayD&) const { refuse_double(spec()); }
+bool Accel::occluded_double(const RayD&) const { refuse_double(spec()); }
+
+void Accel::intersect_double(std::span<const RayD> rays, std::span<HitD> hits, const BatchOptions& options) const {
+    check_double_sizes("closest-hit", rays.size(), hits.size());
+    if (!double_precision()) refuse_double(spec());
+    parallel_for(rays.size(), kBatchGrain, options.threads, [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) hits[i] = intersect_double(rays[i]);
+        if (options.progress) options.progress(end - begin);
+    });
+}
+
+void Accel::occluded_double(std::span<const RayD> rays, std::span<uint8_t> out, const BatchOptions& options) const {
+    check_double_sizes("any-hit", rays.size(), out.size());
+    if (!double_precision()) refuse_double(spec());
+    parallel_for(rays.size(), kBatchGrain, options.threads, [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) out[i] = occluded_double(rays[i]) ? 1 : 0;
+        if (options.progress) options.progress(end - begin);
+    });
+}
+
+}  // namespace thicket
