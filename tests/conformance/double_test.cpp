@@ -10,6 +10,7 @@
 
 #include "support/test_scenes.h"
 #include "support/variant_cover.h"
+#include "thicket/scene/translate.h"
 #include "thicket/accel/registry.h"
 #include "thicket/core/error.h"
 
@@ -46,21 +47,6 @@ size_t rays_for(const Scene& scene) {
     return std::clamp<size_t>(kBruteTestsPerScene / std::max<size_t>(1, scene.primitive_count()), 40, 1000);
 }
 
-/// The same triangles moved by `offset` on every axis, the moved vertices kept in double (their
-/// float positions are what a float structure of the moved scene sees).
-Scene moved_scene(const Scene& scene, double offset) {
-    TriangleMesh mesh;
-    mesh.indices = scene.mesh.indices;
-    for (size_t i = 0; i < scene.mesh.positions.size(); ++i) {
-        const Vec3d p = Vec3d(scene.mesh.positions[i]) + Vec3d(offset, offset, offset);
-        mesh.positions_double.push_back(p);
-        mesh.positions.push_back(p.to_float());
-    }
-    Scene moved;
-    moved.name = scene.name + " moved by " + std::to_string(offset);
-    moved.add_mesh(mesh);
-    return moved;
-}
 
 RayD moved_ray(const Ray& r, double offset) {
     RayD d = to_double(r);
@@ -176,7 +162,7 @@ TEST_P(DoublePrecision, FarFromTheOrigin) {
     const Scene base = nasty_scenes().back();  // the random soup: triangles of every size
     ASSERT_FALSE(base.has_shapes());
     for (const double offset : {1e6, 1e7, 1e8}) {
-        const Scene scene = moved_scene(base, offset);
+        const Scene scene = translated_scene(base, offset);
         SCOPED_TRACE(scene.name);
         const auto accel = build_accel(GetParam(), scene);
         const auto brute = build_accel(reference_spec(), scene);

@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "common.h"
+#include "thicket/scene/translate.h"
 #include "thicket/accel/registry.h"
 #include "thicket/bench/ray_sets.h"
 #include "thicket/core/error.h"
@@ -29,19 +30,6 @@ double median_seconds(int reps, Pass&& pass) {
     return s[s.size() / 2];
 }
 
-Scene moved_scene(const Scene& scene, double offset) {
-    TriangleMesh mesh;
-    mesh.indices = scene.mesh.indices;
-    for (const Vec3& p : scene.mesh.positions) {
-        const Vec3d q = Vec3d(p) + Vec3d(offset, offset, offset);
-        mesh.positions_double.push_back(q);
-        mesh.positions.push_back(q.to_float());
-    }
-    Scene moved;
-    moved.name = scene.name + " + " + std::to_string(offset);
-    moved.add_mesh(mesh);
-    return moved;
-}
 
 }  // namespace
 
@@ -72,7 +60,7 @@ int run_precision_bench(const std::vector<std::string>& scenes, double offset, i
             judged.insert(judged.end(), rays.begin(), rays.end());
         }
         if (offset == 0.0) continue;
-        const Scene moved = moved_scene(scene, offset);
+        const Scene moved = translated_scene(scene, offset);
         const auto moved_float = build_accel("bvh", moved, threads);
         const auto moved_double = build_accel("bvh:precision=double", moved, threads);
         const auto brute = build_accel("brute:precision=double", moved, threads);
