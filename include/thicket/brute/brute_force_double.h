@@ -1,43 +1,21 @@
 #pragma once
 /// Brute force in double precision (`brute:precision=double`): every triangle tested with double
 /// vertices and ray arithmetic; the reference the double BVH is checked against.
-#include "thicket/accel/accel.h"
+#include "thicket/accel/accel_double.h"
 #include "thicket/prims/triangles_double.h"
 
 namespace thicket {
 
 template <TriangleTest Test>
-class BruteForceD final : public Accel {
+class BruteForceD final : public AccelBaseD<BruteForceD<Test>> {
+    friend class AccelBaseD<BruteForceD<Test>>;
+
 public:
     explicit BruteForceD(TrianglesD<Test> prims) : prims_(std::move(prims)) {
         for (uint32_t i = 0; i < prims_.size(); ++i) bounds_.grow(prims_.bounds(i));
     }
 
-    using Accel::intersect;
-    using Accel::intersect_double;
-    using Accel::occluded;
-    using Accel::occluded_double;
-
     Aabb bounds() const override { return outward_float_box(bounds_); }
-    Hit intersect(const Ray& ray) const override {
-        NoCounters none;
-        return to_hit(closest(to_double(ray), none));
-    }
-    Hit intersect(const Ray& ray, RayCounters& c) const override { return to_hit(closest(to_double(ray), c)); }
-    bool occluded(const Ray& ray) const override {
-        NoCounters none;
-        return any(to_double(ray), none);
-    }
-    bool occluded(const Ray& ray, RayCounters& c) const override { return any(to_double(ray), c); }
-    bool double_precision() const override { return true; }
-    HitD intersect_double(const RayD& ray) const override {
-        NoCounters none;
-        return closest(ray, none);
-    }
-    bool occluded_double(const RayD& ray) const override {
-        NoCounters none;
-        return any(ray, none);
-    }
 
     AccelStats stats() const override {
         AccelStats s = this->base_stats();

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "thicket/accel/accel.h"
+#include "thicket/accel/accel_double.h"
 #include "thicket/bvh/build.h"
 #include "thicket/bvh/traversal.h"
 #include "thicket/core/aligned.h"
@@ -25,7 +25,9 @@ struct alignas(64) BvhNodeD {
 static_assert(sizeof(BvhNodeD) == 64, "one double node per cache line");
 
 template <TriangleTest Test>
-class BvhD final : public Accel {
+class BvhD final : public AccelBaseD<BvhD<Test>> {
+    friend class AccelBaseD<BvhD<Test>>;
+
 public:
     /// Builds over `prims` with the float builders (options.builder etc.), traced in `traversal`
     /// order (recursive and stack visit the same nodes; the ordered ones pick the near child as
@@ -44,36 +46,12 @@ public:
         if (data_.nodes_used) fill_boxes(0);
     }
 
-    using Accel::intersect;
-    using Accel::intersect_double;
-    using Accel::occluded;
-    using Accel::occluded_double;
-
     Aabb bounds() const override {
         if (nodes_.empty()) return Aabb{};
         AabbD b;
         b.grow(nodes_[0].lo);
         b.grow(nodes_[0].hi);
         return outward_float_box(b);
-    }
-    Hit intersect(const Ray& ray) const override {
-        NoCounters none;
-        return to_hit(closest(to_double(ray), none));
-    }
-    Hit intersect(const Ray& ray, RayCounters& c) const override { return to_hit(closest(to_double(ray), c)); }
-    bool occluded(const Ray& ray) const override {
-        NoCounters none;
-        return any(to_double(ray), none);
-    }
-    bool occluded(const Ray& ray, RayCounters& c) const override { return any(to_double(ray), c); }
-    bool double_precision() const override { return true; }
-    HitD intersect_double(const RayD& ray) const override {
-        NoCounters none;
-        return closest(ray, none);
-    }
-    bool occluded_double(const RayD& ray) const override {
-        NoCounters none;
-        return any(ray, none);
     }
 
     AccelStats stats() const override {
