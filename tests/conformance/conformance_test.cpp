@@ -152,7 +152,10 @@ TEST_P(Conformance, NastyScenes) {
     for (const Scene& scene : nasty_scenes()) check_scene(scene, "nasty:" + scene.name, kNastySceneRays);
 }
 
-TEST_P(Conformance, SharedScenes) {
+/// The shared real scenes, under shared_scene_variants() (every option value of every structure).
+class SharedSceneConformance : public Conformance {};
+
+TEST_P(SharedSceneConformance, SharedScenes) {
     const auto files = shared_scene_files();
     if (files.empty()) GTEST_SKIP() << shared_scenes_missing_message();
     const bool is_reference = parse_accel_spec(GetParam()).name == "brute";
@@ -257,6 +260,7 @@ std::string test_name(const ::testing::TestParamInfo<std::string>& info) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Registry, Conformance, ::testing::ValuesIn(conformance_variants()), test_name);
+INSTANTIATE_TEST_SUITE_P(Registry, SharedSceneConformance, ::testing::ValuesIn(shared_scene_variants()), test_name);
 
 }  // namespace
 }  // namespace thicket::testing

@@ -27,12 +27,10 @@ void split_variant(const std::string& variant, std::string& name, std::set<std::
     }
 }
 
-#ifdef THICKET_SANITIZED
 bool full_run_requested() {
     const char* full = std::getenv("THICKET_FULL");
     return full && *full && std::string(full) != "0";
 }
-#endif
 
 }  // namespace
 
@@ -69,6 +67,11 @@ std::vector<std::string> conformance_variants() {
     if (!full_run_requested()) return covering_variants(all_accel_variants());
 #endif
     return all_accel_variants();
+}
+
+std::vector<std::string> shared_scene_variants() {
+    if (full_run_requested()) return all_accel_variants();
+    return covering_variants(all_accel_variants());
 }
 
 }  // namespace thicket::testing

@@ -17,4 +17,10 @@ std::vector<std::string> covering_variants(const std::vector<std::string>& varia
 /// run no code that their separate values do not, and the sanitizer job is ten times slower.
 std::vector<std::string> conformance_variants();
 
+/// The variants the shared real scenes run: covering_variants() of every registered variant, in
+/// every build; all of them under THICKET_FULL (`scripts/test --full`). The full cross product of
+/// builders and traversals runs on the nasty scenes (conformance_variants(), Release); on a real
+/// scene each combination costs 10-100x as much and runs no code that its separate values do not.
+std::vector<std::string> shared_scene_variants();
+
 }  // namespace thicket::testing

@@ -299,9 +299,17 @@ TEST(SavedProofs, TheProofsNeverRefuseWhatTheBuilderWrote) {
     scenes.push_back(scaled(soup, 1e30f, "soup-1e30"));
     scenes.push_back(scaled(soup, 1e-30f, "soup-1e-30"));
     scenes.push_back(testing::mixed_scene());
-    for (const Scene& scene : scenes)
-        for (const char* spec : {"obb", "obb:fit=axes", "obb:builder=lbvh,max-leaf=1", "tetra"})
-            expect_round_trip(spec, scene);
+    // Half of this test's time went to TetGen meshing thin-diagonal, same-centroid and the scaled
+    // soups (about 16 s of 31 on a loaded machine, the same under the sanitizers: TetGen is not
+    // instrumented). conformance.tetra checks the answers on those scenes; the tetra load proofs
+    // run here on the others, the teapot and the unscaled soup.
+    const auto tetgen_heavy = [](const std::string& name) {
+        return name == "thin-diagonal" || name == "same-centroid" || name.rfind("soup-", 0) == 0;
+    };
+    for (const Scene& scene : scenes) {
+        for (const char* spec : {"obb", "obb:fit=axes", "obb:builder=lbvh,max-leaf=1"}) expect_round_trip(spec, scene);
+        if (!tetgen_heavy(scene.name)) expect_round_trip("tetra", scene);
+    }
     const Scene& teapot = teapot_or_cornell();
     for (const char* spec : {"obb", "obb:builder=lbvh,max-leaf=1", "tetra"}) expect_round_trip(spec, teapot);
     const std::string dir = testing::shared_scene_dir();
