@@ -69,11 +69,17 @@ size_t differing_bytes(const std::string& a, const std::string& b) {
 }
 
 /// Builds `spec` on 1 thread twice (the stack scribbled differently) and on 2 and 7 threads;
-/// every file must be the first one's bytes.
+/// every file must be the first one's bytes. Sanitized builds (there for memory errors, which the
+/// 7-thread build's concurrent subtrees exercise) build on 1 and 7 threads only.
 void expect_same_bytes(const std::string& spec, const Scene& scene) {
     const std::string first = thicket::testing::saved_after_scribble(spec, scene, 1, 0x00);
     ASSERT_GT(first.size(), 0u) << spec;
-    for (const auto& [threads, scribble] : {std::pair{1u, 0xA5}, std::pair{2u, 0x5A}, std::pair{7u, 0xFF}}) {
+#ifdef THICKET_SANITIZED
+    const std::pair<unsigned, int> others[] = {{7u, 0xFF}};
+#else
+    const std::pair<unsigned, int> others[] = {{1u, 0xA5}, {2u, 0x5A}, {7u, 0xFF}};
+#endif
+    for (const auto& [threads, scribble] : others) {
         const std::string other = thicket::testing::saved_after_scribble(spec, scene, threads, (unsigned char)scribble);
         const auto diff = std::mismatch(first.begin(), first.end(), other.begin(), other.end());
         EXPECT_TRUE(diff.first == first.end() && diff.second == other.end())

@@ -191,10 +191,17 @@ TEST(Subdivision, ErrorBoundHoldsAndShrinksWithLevel) {
         ControlMesh cage;
         int max_level;
     };
-    const Case cases[] = {{"cube", cube_control_mesh(), 4},
+#ifdef THICKET_SANITIZED
+    // Level 4 quadruples level 3's triangles and the brute-force distances to them: the sanitizer
+    // job stops at level 3 (still three levels to shrink over), the Release job goes on to 4.
+    const int top = 3;
+#else
+    const int top = 4;
+#endif
+    const Case cases[] = {{"cube", cube_control_mesh(), top},
                           {"torus", torus_cage(8, 6, 2, 0.7f), 3},
                           {"mixed", mixed_cage(), 3},
-                          {"open", open_cage(), 4}};
+                          {"open", open_cage(), top}};
     for (const Case& c : cases) {
         const std::vector<LimitSample> samples = sample_limit_surface(c.cage, 21);
         double previous = 1e300;
