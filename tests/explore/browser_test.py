@@ -118,8 +118,9 @@ def main():
                   "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--window-size=1200,800",
                   "--virtual-time-budget=30000", "--user-data-dir=" + os.path.join(outdir, "profile")]
         shot = os.path.join(outdir, "explore-teapot.png")
-        dom = subprocess.run(common + ["--dump-dom", page], capture_output=True, text=True, timeout=120)
-        subprocess.run(common + ["--screenshot=" + shot, page], capture_output=True, text=True, timeout=120)
+        # One load gives the DOM and the screenshot (chromium writes both once the page settles).
+        dom = subprocess.run(common + ["--dump-dom", "--screenshot=" + shot, page], capture_output=True, text=True,
+                             timeout=120)
         html = dom.stdout
         with open(os.path.join(outdir, "explore-dom.html"), "w") as f:
             f.write(html)

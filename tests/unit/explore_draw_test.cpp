@@ -66,6 +66,21 @@ uint64_t figure(const AccelStats& s, const std::string& key) {
     return 0;
 }
 
+/// The SAH cost (core/tree_figures.h: 1 per inner node, 1 per leaf reference, each weighted by its
+/// box's area over the root's) of the drawn levels: inner boxes are non-leaf boxes and the cells
+/// of planes, the root is depth 0's one element. Empty leaves, not drawn, cost nothing.
+double sah_of_drawing(const std::vector<json>& levels) {
+    const json& root = levels[0]["planes"].empty() ? levels[0]["boxes"][0]["box"] : levels[0]["planes"][0]["cell"];
+    const double root_area = box_of(root).half_area();
+    double cost = 0.0;
+    for (const json& level : levels) {
+        for (const json& p : level["planes"]) cost += box_of(p["cell"]).half_area() / root_area;
+        for (const json& b : level["boxes"])
+            cost += box_of(b["box"]).half_area() / root_area * (b["leaf"].get<bool>() ? b["prims"].get<double>() : 1.0);
+    }
+    return cost;
+}
+
 struct Drawn {
     std::unique_ptr<explore::Session> session;
     AccelStats stats;
@@ -144,6 +159,7 @@ TEST(ExploreDraw, KdTreePlanesLieInTheirCellsLevelByLevel) {
     EXPECT_EQ(leaves, kd.stats.leaves - figure(kd.stats, "empty leaves"));
     EXPECT_EQ(refs, figure(kd.stats, "references"));
     kd.centroids_covered(leaf_cells);
+    EXPECT_NEAR(sah_of_drawing(levels), kd.stats.sah_cost, 1e-4 * kd.stats.sah_cost);
 }
 
 TEST(ExploreDraw, BspPlanesAreClippedToTheirSideOfEveryAncestor) {
@@ -266,6 +282,7 @@ TEST(ExploreDraw, OctreeCellsAndBihIntervalsNestLevelByLevel) {
     ASSERT_GE(o.size(), 2u);
     EXPECT_EQ(o[0]["drawing"], "cells");
     EXPECT_EQ(check_box_levels(oct, o, oct.scene.bounds()), oct.stats.leaves - figure(oct.stats, "empty leaves"));
+    EXPECT_NEAR(sah_of_drawing(o), oct.stats.sah_cost, 1e-4 * oct.stats.sah_cost);
 
     const Drawn bih(soup(), "bih");
     const std::vector<json> b = bih.levels();
@@ -273,6 +290,7 @@ TEST(ExploreDraw, OctreeCellsAndBihIntervalsNestLevelByLevel) {
     EXPECT_EQ(b[0]["drawing"], "boxes");
     EXPECT_EQ(box_of(b[0]["boxes"][0]["box"]).max, bih.scene.bounds().max);
     EXPECT_EQ(check_box_levels(bih, b, bih.scene.bounds()), bih.stats.leaves - figure(bih.stats, "empty leaves"));
+    EXPECT_NEAR(sah_of_drawing(b), bih.stats.sah_cost, 1e-4 * bih.stats.sah_cost);
 }
 
 TEST(ExploreDraw, ObbLeavesHoldTheirTriangles) {
