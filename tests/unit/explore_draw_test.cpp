@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <string>
@@ -162,6 +163,21 @@ TEST(ExploreDraw, KdTreePlanesLieInTheirCellsLevelByLevel) {
     EXPECT_NEAR(sah_of_drawing(levels), kd.stats.sah_cost, 1e-4 * kd.stats.sah_cost);
 }
 
+/// Whether two convex polygons in one plane (normal n) meet, up to eps: no separating axis
+/// among their edges' in-plane normals.
+bool coplanar_convex_meet(const std::vector<Vec3>& a, const std::vector<Vec3>& b, const Vec3& n, float eps) {
+    for (const std::vector<Vec3>* poly : {&a, &b})
+        for (size_t i = 0; i < poly->size(); ++i) {
+            const Vec3 axis = cross(n, (*poly)[(i + 1) % poly->size()] - (*poly)[i]);
+            float lo_a = INFINITY, hi_a = -INFINITY, lo_b = INFINITY, hi_b = -INFINITY;
+            for (const Vec3& p : a) lo_a = std::min(lo_a, dot(axis, p)), hi_a = std::max(hi_a, dot(axis, p));
+            for (const Vec3& p : b) lo_b = std::min(lo_b, dot(axis, p)), hi_b = std::max(hi_b, dot(axis, p));
+            const float tol = eps * length(axis);
+            if (hi_a < lo_b - tol || hi_b < lo_a - tol) return false;
+        }
+    return true;
+}
+
 TEST(ExploreDraw, BspPlanesAreClippedToTheirSideOfEveryAncestor) {
     const Drawn bsp(soup(), "bsp");
     const Aabb scene_box = bsp.scene.bounds();
@@ -201,6 +217,19 @@ TEST(ExploreDraw, BspPlanesAreClippedToTheirSideOfEveryAncestor) {
                 below += side < -eps;
                 above += side > eps;
             }
+            // Autopartition: the plane is a triangle's, and that triangle's piece in the cell lies
+            // in the clipped polygon, so some scene triangle in this plane meets it.
+            std::vector<Vec3> poly;
+            for (const json& c : q) poly.push_back(vec_of(c));
+            bool holds_its_triangle = false;
+            for (size_t t = 0; t < bsp.scene.mesh.triangle_count() && !holds_its_triangle; ++t) {
+                std::vector<Vec3> tri;
+                for (int k = 0; k < 3; ++k) tri.push_back(bsp.scene.mesh.vertex(t, k));
+                bool in_plane = true;
+                for (const Vec3& v : tri) in_plane = in_plane && std::fabs(dot(qn, v - qo)) < eps;
+                holds_its_triangle = in_plane && coplanar_convex_meet(poly, tri, qn, eps);
+            }
+            EXPECT_TRUE(holds_its_triangle) << "depth " << level["depth"] << ": no triangle of this plane in it: " << p.dump();
             if (level["depth"] != 0) {
                 EXPECT_TRUE(below == 0 || above == 0)
                     << "depth " << level["depth"] << ": a plane crosses the root's, so it is not clipped to its cell";
