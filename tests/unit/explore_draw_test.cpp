@@ -6,7 +6,9 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 #include <random>
 #include <string>
 
@@ -370,6 +372,31 @@ TEST(ExploreDraw, TetrahedraByStepsFromTheSurface) {
         total += level["tetrahedra"].size();
     }
     EXPECT_EQ(total, figure(tet.stats, "tetrahedra"));
+    // Steps across faces: a tetrahedron at depth k >= 1 shares a face with one at depth k - 1 and
+    // none with one nearer the surface (faces matched by their sorted corners).
+    using Face = std::array<std::array<float, 3>, 3>;
+    const auto faces_of = [](const json& t) {
+        std::vector<Face> out;
+        for (int skip = 0; skip < 4; ++skip) {
+            Face f;
+            size_t n = 0;
+            for (int k = 0; k < 4; ++k)
+                if (k != skip) f[n++] = t["corners"][size_t(k)].get<std::array<float, 3>>();
+            std::sort(f.begin(), f.end());
+            out.push_back(f);
+        }
+        return out;
+    };
+    std::map<Face, uint32_t> nearest;  // the smallest depth of a tetrahedron with that face
+    for (const json& level : levels)
+        for (const json& t : level["tetrahedra"])
+            for (const Face& f : faces_of(t)) nearest.emplace(f, level["depth"].get<uint32_t>());
+    for (size_t k = 1; k < levels.size(); ++k)
+        for (const json& t : levels[k]["tetrahedra"]) {
+            uint32_t lowest = uint32_t(k);
+            for (const Face& f : faces_of(t)) lowest = std::min(lowest, nearest[f]);
+            EXPECT_EQ(lowest, k - 1) << "depth " << k << ": " << t.dump();
+        }
     // Depth 0 touches the surface: each has a face whose three corners lie on a cube's faces
     // (corners of the cubes, or points TetGen added on them).
     const auto on_surface = [&](const Vec3& p) {
