@@ -56,6 +56,9 @@ def check_kdtree(common, url, outdir):
         fail("the server sends no kd-tree planes at depth 3: " + json.dumps(want)[:300])
     if attrs.get("drawing") != want["drawing"]:
         fail("the page draws %r, not the kd-tree's %r" % (attrs.get("drawing"), want["drawing"]))
+    # The counts come from the 3D view's geometry, so they need WebGL (swiftshader in CI).
+    if attrs.get("webgl") != "ok":
+        fail("WebGL is unavailable (%s), so the planes cannot be drawn" % attrs.get("webgl"))
     if int(attrs.get("planes", -1)) != len(want["planes"]) or int(attrs.get("boxes", -1)) != len(want["boxes"]):
         fail("the page drew %s planes and %s leaf cells; the server sent %d and %d" %
              (attrs.get("planes"), attrs.get("boxes"), len(want["planes"]), len(want["boxes"])))

@@ -131,8 +131,10 @@ function tetraLines(tets, color) {
 /// Split planes {polygon: convex corners} as translucent faces (fans) with their outlines.
 function planeMeshes(planes, color) {
   const tris = [], pairs = [];
+  let polygons = 0;
   for (const pl of planes) {
     const q = pl.polygon;
+    if (q.length >= 3) polygons++;
     for (let i = 1; i + 1 < q.length; i++) tris.push(...q[0], ...q[i], ...q[i + 1]);
     for (let i = 0; i < q.length; i++) pairs.push([q[i], q[(i + 1) % q.length]]);
   }
@@ -140,6 +142,7 @@ function planeMeshes(planes, color) {
   g.setAttribute('position', new THREE.BufferAttribute(new Float32Array(tris), 3));
   const faces = new THREE.Mesh(g, new THREE.MeshBasicMaterial({ color: color, transparent: true, opacity: 0.22,
     side: THREE.DoubleSide, depthWrite: false }));
+  faces.userData.polygons = polygons;
   return [faces, segments(pairs, color)];
 }
 function clearGroup(g) {
@@ -236,16 +239,31 @@ async function showNodes() {
   $('depth-means').textContent = 'depth: ' + r.depth_means;
   const body = document.body.dataset;
   body.drawing = r.drawing;
-  body.boxes = String(r.boxes.length);
-  body.planes = String(r.planes.length);
-  body.oriented = String(r.oriented.length);
-  body.tetrahedra = String(r.tetrahedra.length);
   if (three.ok) {
+    // What the 3D view holds, counted from its geometry (the browser test reads these): line
+    // segments per box (12) or tetrahedron (6), and the polygons the plane faces were made of.
+    const lines = (o, per) => String(o.geometry.attributes.position.count / 2 / per);
     // Among planes the boxes are the leaves' cells: drawn dimmer, so the planes stand out.
-    if (r.boxes.length) three.nodes.add(boxLines(r.boxes.map((b) => b.box), r.planes.length ? 0x3a6f9f : 0x4fa3ff));
-    if (r.planes.length) three.nodes.add(...planeMeshes(r.planes, 0xff9040));
-    if (r.oriented.length) three.nodes.add(orientedLines(r.oriented, 0x60e0a0));
-    if (r.tetrahedra.length) three.nodes.add(tetraLines(r.tetrahedra, 0xd080ff));
+    if (r.boxes.length) {
+      const o = boxLines(r.boxes.map((b) => b.box), r.planes.length ? 0x3a6f9f : 0x4fa3ff);
+      three.nodes.add(o);
+      body.boxes = lines(o, 12);
+    }
+    if (r.planes.length) {
+      const [faces, outline] = planeMeshes(r.planes, 0xff9040);
+      three.nodes.add(faces, outline);
+      body.planes = String(faces.userData.polygons);
+    }
+    if (r.oriented.length) {
+      const o = orientedLines(r.oriented, 0x60e0a0);
+      three.nodes.add(o);
+      body.oriented = lines(o, 12);
+    }
+    if (r.tetrahedra.length) {
+      const o = tetraLines(r.tetrahedra, 0xd080ff);
+      three.nodes.add(o);
+      body.tetrahedra = lines(o, 6);
+    }
   }
   render();
 }
