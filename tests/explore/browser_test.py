@@ -7,6 +7,7 @@ kD-tree (?structure=2&depth=3): it must draw as many split planes as the server 
 depth, with no script error. Saves both screenshots next to the DOM (docs/explore.md).
 
 usage: browser_test.py THICKET SCENE OUTDIR
+With THICKET_EXPLORE_SHOTS=1 it also saves the pictures of the other structures docs/explore.md shows.
 Skips (GoogleTest's "[  SKIPPED ]" line, which ctest reports as a skip) only when chromium is absent.
 """
 import html as htmllib
