@@ -419,12 +419,12 @@ TEST(ExploreDraw, TetrahedraByStepsFromTheSurface) {
 }
 
 TEST(ExploreDraw, LargeLevelsAreSampledAcrossTheWholeLevel) {
-    // A flat square in a 260 x 260 grid: 67,600 non-empty cells, over the limit of one answer.
+    // A flat square in a 230 x 230 grid: 52,900 non-empty cells, just over the limit of one answer.
     Scene s;
     s.name = "square";
     s.mesh.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
     s.mesh.indices = {0, 1, 2, 0, 2, 3};
-    const Drawn grid(s, "grid:res=260");
+    const Drawn grid(s, "grid:res=230");
     const json g = grid.at(0);
     const uint64_t count = g["count"];
     ASSERT_GT(count, explore::kMaxBoxes);
