@@ -2,9 +2,12 @@
 """`thicket explore` in a real browser: headless Chromium loads the page on a shared scene with
 ?auto=1 (a heatmap, then the centre pixel's trace), and the DOM it leaves must show the scene
 loaded, the statistics filled, boxes and a heatmap drawn, no script error, and the same traversal
-as `thicket explain` prints for that ray. Saves the screenshot next to the DOM (docs/explore.md).
+as `thicket explain` prints for that ray. Then the page is loaded again and switched to the
+kD-tree (?structure=2&depth=3): it must draw as many split planes as the server sends for that
+depth, with no script error. Saves both screenshots next to the DOM (docs/explore.md).
 
 usage: browser_test.py THICKET SCENE OUTDIR
+With THICKET_EXPLORE_SHOTS=1 it also saves the pictures of the other structures docs/explore.md shows.
 Skips (GoogleTest's "[  SKIPPED ]" line, which ctest reports as a skip) only when chromium is absent.
 """
 import html as htmllib
@@ -22,6 +25,77 @@ def fail(msg):
     sys.exit(1)
 
 
+def body_attrs(html, what):
+    """The data-* attributes of the page's <body>, failing on a script error or an unfinished load."""
+    body = re.search(r"<body([^>]*)>", html)
+    if not body:
+        fail("no <body> in chromium's DOM of " + what)
+    attrs = dict(re.findall(r'data-([a-z-]+)="([^"]*)"', body.group(1)))
+    if "failed" in attrs:
+        fail(what + ": the page's script failed: " + attrs["failed"])
+    if "errors" in attrs:
+        fail(what + ": the page logged errors: " + attrs["errors"])
+    if attrs.get("loaded") != "1":
+        fail(what + ": the page did not finish loading (data-loaded missing)")
+    return attrs
+
+
+def check_kdtree(common, url, outdir):
+    """The page switched to the kD-tree (structure 2) at depth 3 draws the planes the server sends."""
+    page = url + "?structure=2&depth=3"
+    shot = os.path.join(outdir, "explore-teapot-kdtree.png")
+    # One run gives the DOM and the screenshot: the page is loaded once for both.
+    run = subprocess.run(common + ["--dump-dom", "--screenshot=" + shot, page], capture_output=True, text=True,
+                         timeout=120)
+    with open(os.path.join(outdir, "explore-kdtree-dom.html"), "w") as f:
+        f.write(run.stdout)
+    attrs = body_attrs(run.stdout, "the kd-tree page")
+    print("kd-tree page state:", attrs)
+    asked = urllib.request.Request(url + "api/nodes", data=b'{"structure": 2, "depth": 3}', method="POST")
+    want = json.loads(urllib.request.urlopen(asked, timeout=60).read())
+    if want["drawing"] != "planes and leaf cells" or not want["planes"]:
+        fail("the server sends no kd-tree planes at depth 3: " + json.dumps(want)[:300])
+    if attrs.get("drawing") != want["drawing"]:
+        fail("the page draws %r, not the kd-tree's %r" % (attrs.get("drawing"), want["drawing"]))
+    # The counts come from the 3D view's geometry, so they need WebGL (swiftshader in CI).
+    if attrs.get("webgl") != "ok":
+        fail("WebGL is unavailable (%s), so the planes cannot be drawn" % attrs.get("webgl"))
+    if int(attrs.get("planes", -1)) != len(want["planes"]) or int(attrs.get("boxes", -1)) != len(want["boxes"]):
+        fail("the page drew %s planes and %s leaf cells; the server sent %d and %d" %
+             (attrs.get("planes"), attrs.get("boxes"), len(want["planes"]), len(want["boxes"])))
+    if not os.path.exists(shot) or os.path.getsize(shot) < 1000:
+        fail("no kd-tree screenshot written")
+    print("ok: %d kd-tree planes drawn at depth 3; screenshot %s" % (len(want["planes"]), shot))
+
+
+# The docs' pictures of the other structures (docs/explore.md), made only when asked
+# (THICKET_EXPLORE_SHOTS=1): one page load each, beyond what CI needs.
+DOC_SHOTS = [("grid", 0), ("grid2", 1), ("octree", 3), ("bsp", 2), ("bih", 4), ("obb", 3), ("tetra", 1)]
+
+
+def doc_shots(thicket, scene, common, outdir):
+    specs = [s for s, _ in DOC_SHOTS]
+    args = [thicket, "explore", scene, "--port", "0", "--threads", "2"]
+    for spec in specs:
+        args += ["--accel", spec]
+    server = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        url = next((m.group(1) for m in (re.search(r"explore (http://\S+)", l) for l in server.stdout) if m), None)
+        if not url:
+            fail("thicket explore printed no URL for the doc shots; stderr: " + server.stderr.read())
+        for i, (spec, depth) in enumerate(DOC_SHOTS):
+            shot = os.path.join(outdir, "explore-teapot-%s.png" % spec)
+            run = subprocess.run(common + ["--dump-dom", "--screenshot=" + shot,
+                                           url + "?structure=%d&depth=%d" % (i, depth)],
+                                 capture_output=True, text=True, timeout=120)
+            attrs = body_attrs(run.stdout, spec + "'s page")
+            print("%s at depth %d: %s; screenshot %s" % (spec, depth, {k: attrs.get(k) for k in
+                  ("drawing", "boxes", "planes", "oriented", "tetrahedra")}, shot))
+    finally:
+        server.terminate()
+        server.wait(timeout=30)
+
+
 def main():
     thicket, scene, outdir = sys.argv[1:4]
     chromium = shutil.which("chromium") or shutil.which("chromium-browser")
@@ -32,8 +106,8 @@ def main():
         print("[  SKIPPED ] %s is absent (the shared scenes live in ../shared/scenes)" % scene)
         return 0
     os.makedirs(outdir, exist_ok=True)
-    server = subprocess.Popen([thicket, "explore", scene, "--accel", "bvh", "--accel", "grid", "--port", "0",
-                               "--threads", "2"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    server = subprocess.Popen([thicket, "explore", scene, "--accel", "bvh", "--accel", "grid", "--accel", "kdtree",
+                               "--port", "0", "--threads", "2"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         url = None
         for line in server.stdout:  # the scene and build lines, then the URL
@@ -48,8 +122,9 @@ def main():
                   "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--window-size=1200,800",
                   "--virtual-time-budget=30000", "--user-data-dir=" + os.path.join(outdir, "profile")]
         shot = os.path.join(outdir, "explore-teapot.png")
-        dom = subprocess.run(common + ["--dump-dom", page], capture_output=True, text=True, timeout=120)
-        subprocess.run(common + ["--screenshot=" + shot, page], capture_output=True, text=True, timeout=120)
+        # One load gives the DOM and the screenshot (chromium writes both once the page settles).
+        dom = subprocess.run(common + ["--dump-dom", "--screenshot=" + shot, page], capture_output=True, text=True,
+                             timeout=120)
         html = dom.stdout
         with open(os.path.join(outdir, "explore-dom.html"), "w") as f:
             f.write(html)
@@ -104,6 +179,9 @@ def main():
         if not os.path.exists(shot) or os.path.getsize(shot) < 1000:
             fail("no screenshot written")
         print("ok: %d steps match thicket explain; screenshot %s" % (len(got), shot))
+        check_kdtree(common, url, outdir)
+        if os.environ.get("THICKET_EXPLORE_SHOTS") == "1":
+            doc_shots(thicket, scene, common, outdir)
         return 0
     finally:
         server.terminate()  # SIGTERM: the server stops cleanly and exits 0

@@ -203,9 +203,9 @@ TEST_F(ExploreApi, RefusalsNameWhatIsWrong) {
     refused("/api/nothing", "", 404, "no such request");
     // A structure that does not draw itself is told apart from a bad request.
     std::vector<std::unique_ptr<Accel>> one;
-    one.push_back(build_accel("kdtree", scene, 1));
-    const explore::Session kd(small_scene(), std::move(one));
-    const explore::Response r = kd.handle("POST", "/api/nodes", "{}");
+    one.push_back(build_accel("brute", scene, 1));
+    const explore::Session brute(small_scene(), std::move(one));
+    const explore::Response r = brute.handle("POST", "/api/nodes", "{}");
     EXPECT_EQ(r.status, 422);
     EXPECT_NE(r.body.find("does not draw its nodes"), std::string::npos);
 }

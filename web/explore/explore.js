@@ -93,19 +93,57 @@ function setupOrbit() {
   window.addEventListener('resize', render);
 }
 
-/// Line segments of the 12 edges of each box [minx, miny, minz, maxx, maxy, maxz].
-function boxLines(boxes, color) {
-  const p = new Float32Array(boxes.length * 72);
+/// Line segments from a flat list of corner pairs [[a, b], ...].
+function segments(pairs, color) {
+  const p = new Float32Array(pairs.length * 6);
   let k = 0;
-  for (const b of boxes) {
-    const c = (i) => [(i & 1) ? b[3] : b[0], (i & 2) ? b[4] : b[1], (i & 4) ? b[5] : b[2]];
-    for (const [i, j] of [[0, 1], [2, 3], [4, 5], [6, 7], [0, 2], [1, 3], [4, 6], [5, 7], [0, 4], [1, 5], [2, 6], [3, 7]]) {
-      for (const v of c(i).concat(c(j))) p[k++] = v;
-    }
-  }
+  for (const [a, b] of pairs) for (const v of a.concat(b)) p[k++] = v;
   const g = new THREE.BufferGeometry();
   g.setAttribute('position', new THREE.BufferAttribute(p, 3));
   return new THREE.LineSegments(g, new THREE.LineBasicMaterial({ color: color }));
+}
+const kBoxEdges = [[0, 1], [2, 3], [4, 5], [6, 7], [0, 2], [1, 3], [4, 6], [5, 7], [0, 4], [1, 5], [2, 6], [3, 7]];
+/// Line segments of the 12 edges of each box [minx, miny, minz, maxx, maxy, maxz].
+function boxLines(boxes, color) {
+  const pairs = [];
+  for (const b of boxes) {
+    const c = (i) => [(i & 1) ? b[3] : b[0], (i & 2) ? b[4] : b[1], (i & 4) ? b[5] : b[2]];
+    for (const [i, j] of kBoxEdges) pairs.push([c(i), c(j)]);
+  }
+  return segments(pairs, color);
+}
+/// The 12 edges of each oriented box {center, axes: three half-axes}.
+function orientedLines(obbs, color) {
+  const pairs = [];
+  for (const o of obbs) {
+    const c = (i) => [0, 1, 2].map((k) => o.center[k] + [0, 1, 2].reduce((s, a) =>
+      s + ((i >> a) & 1 ? 1 : -1) * o.axes[a][k], 0));
+    for (const [i, j] of kBoxEdges) pairs.push([c(i), c(j)]);
+  }
+  return segments(pairs, color);
+}
+/// The 6 edges of each tetrahedron {corners: four points}.
+function tetraLines(tets, color) {
+  const pairs = [];
+  for (const t of tets) for (const [i, j] of [[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]]) pairs.push([t.corners[i], t.corners[j]]);
+  return segments(pairs, color);
+}
+/// Split planes {polygon: convex corners} as translucent faces (fans) with their outlines.
+function planeMeshes(planes, color) {
+  const tris = [], pairs = [];
+  let polygons = 0;
+  for (const pl of planes) {
+    const q = pl.polygon;
+    if (q.length >= 3) polygons++;
+    for (let i = 1; i + 1 < q.length; i++) tris.push(...q[0], ...q[i], ...q[i + 1]);
+    for (let i = 0; i < q.length; i++) pairs.push([q[i], q[(i + 1) % q.length]]);
+  }
+  const g = new THREE.BufferGeometry();
+  g.setAttribute('position', new THREE.BufferAttribute(new Float32Array(tris), 3));
+  const faces = new THREE.Mesh(g, new THREE.MeshBasicMaterial({ color: color, transparent: true, opacity: 0.22,
+    side: THREE.DoubleSide, depthWrite: false }));
+  faces.userData.polygons = polygons;
+  return [faces, segments(pairs, color)];
 }
 function clearGroup(g) {
   while (g.children.length) {
@@ -127,7 +165,7 @@ async function loadScene() {
     s.structures.forEach((st, i) => {
       const o = document.createElement('option');
       o.value = String(i);
-      o.textContent = st.spec + (st.draws_nodes ? '' : ' (no nodes drawn)');
+      o.textContent = st.spec + (st.draws_nodes ? '' : ' (not drawn)');
       sel.appendChild(o);
     });
   }
@@ -180,20 +218,53 @@ async function loadStats() {
   $('stats').replaceChildren(table);
 }
 
-// ---- nodes by depth ----------------------------------------------------------------------------
+// ---- the structure at one depth, drawn in its own terms ---------------------------------------
 async function showNodes() {
   const structure = Number($('structure').value || 0);
   const depth = Number($('depth').value);
   $('depth-label').textContent = String(depth);
   const st = state.scene.structures[structure];
   if (three.ok) clearGroup(three.nodes);
-  if (!st.draws_nodes) { $('nodes-line').textContent = st.spec + ' does not draw its nodes yet'; render(); return; }
+  for (const k of ['boxes', 'planes', 'oriented', 'tetrahedra']) document.body.dataset[k] = '0';
+  if (!st.draws_nodes) {
+    $('nodes-line').textContent = st.spec + ' does not draw its nodes';
+    document.body.dataset.drawing = 'none';
+    render();
+    return;
+  }
   const r = await api('/api/nodes', { structure: structure, depth: depth });
   $('depth').max = String(r.max_depth);
-  $('nodes-line').textContent = r.count + ' node(s) at depth ' + depth + ' of ' + r.max_depth +
-    (r.truncated ? ' (first ' + r.boxes.length + ' drawn)' : '');
-  document.body.dataset.boxes = String(r.boxes.length);
-  if (three.ok && r.boxes.length) three.nodes.add(boxLines(r.boxes.map((b) => b.box), 0x4fa3ff));
+  $('nodes-line').textContent = r.drawing + ': ' + r.count + ' at depth ' + depth + ' of ' + r.max_depth +
+    (r.truncated ? ' (every ' + r.stride + 'th drawn: ' + r.drawn + ', the limit is ' + r.limit + ')' : '');
+  $('depth-means').textContent = 'depth: ' + r.depth_means;
+  const body = document.body.dataset;
+  body.drawing = r.drawing;
+  if (three.ok) {
+    // What the 3D view holds, counted from its geometry (the browser test reads these): line
+    // segments per box (12) or tetrahedron (6), and the polygons the plane faces were made of.
+    const lines = (o, per) => String(o.geometry.attributes.position.count / 2 / per);
+    // Among planes the boxes are the leaves' cells: drawn dimmer, so the planes stand out.
+    if (r.boxes.length) {
+      const o = boxLines(r.boxes.map((b) => b.box), r.planes.length ? 0x3a6f9f : 0x4fa3ff);
+      three.nodes.add(o);
+      body.boxes = lines(o, 12);
+    }
+    if (r.planes.length) {
+      const [faces, outline] = planeMeshes(r.planes, 0xff9040);
+      three.nodes.add(faces, outline);
+      body.planes = String(faces.userData.polygons);
+    }
+    if (r.oriented.length) {
+      const o = orientedLines(r.oriented, 0x60e0a0);
+      three.nodes.add(o);
+      body.oriented = lines(o, 12);
+    }
+    if (r.tetrahedra.length) {
+      const o = tetraLines(r.tetrahedra, 0xd080ff);
+      three.nodes.add(o);
+      body.tetrahedra = lines(o, 6);
+    }
+  }
   render();
 }
 
@@ -339,6 +410,16 @@ async function main() {
     $('depth').value = params.get('depth');
   }
   await report(showNodes());
+  // ?structure=S (an index or a spec): switch to it once the first structure is drawn, as a
+  // reader choosing it would, keeping ?depth.
+  if (params.has('structure')) {
+    const want = params.get('structure');
+    const i = state.scene.structures.findIndex((st, k) => String(k) === want || st.spec === want);
+    if (i < 0) throw new Error('?structure=' + want + ': no such structure on this server');
+    $('structure').value = String(i);
+    if (params.has('depth')) { $('depth').max = '1000'; $('depth').value = params.get('depth'); }
+    await report(showNodes());
+  }
   // ?auto=1 (the browser test, docs/explore.md): a heatmap, then the centre pixel's trace.
   if (params.get('auto') === '1') {
     await report(heatmap());

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "explore_draw.h"
 #include "explore_json.h"
 #include "thicket/core/error.h"
 
@@ -132,8 +133,7 @@ Response Session::scene_info() const {
     const size_t stride = triangles > kMaxDisplayTriangles ? (triangles + kMaxDisplayTriangles - 1) / kMaxDisplayTriangles : 1;
     json structures = json::array();
     for (const auto& a : accels_) {
-        const bool draws = a->for_each_node([](const NodeBox&) {});
-        structures.push_back({{"spec", a->spec()}, {"draws_nodes", draws}});
+        structures.push_back({{"spec", a->spec()}, {"draws_nodes", draws_itself(*a)}});
     }
     const Aabb b = scene_.bounds();
     return json_response({{"name", scene_.name},
@@ -143,7 +143,7 @@ Response Session::scene_info() const {
                           {"display", {{"limit", kMaxDisplayTriangles}, {"stride", stride},
                                        {"triangles", (triangles + stride - 1) / stride}}},
                           {"limits", {{"max_image_side", kMaxImageSide}, {"max_image_pixels", kMaxImagePixels},
-                                      {"max_boxes", kMaxBoxes}, {"max_steps", kMaxSteps}}},
+                                      {"max_drawn", kMaxBoxes}, {"max_steps", kMaxSteps}}},
                           {"structures", structures}});
 }
 

@@ -2,9 +2,11 @@
 // one ray's recorded traversal (shared with `thicket explain`).
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <unordered_map>
 
 #include "explore_api.h"
+#include "explore_draw.h"
 #include "explore_json.h"
 #include "thicket/util/parallel.h"
 
@@ -104,18 +106,40 @@ Response Session::nodes(const std::string& body) const {
     const json req = parse_body(body);
     const Accel& a = *accels_[read_structure(req, specs_of(accels_))];
     const uint32_t depth = read_uint(req, "depth", 0, kMaxDepth, false, 0);
-    json boxes = json::array();
-    uint32_t max_depth = 0;
-    size_t at_depth = 0;
-    const bool draws = a.for_each_node([&](const NodeBox& n) {
-        max_depth = std::max(max_depth, n.depth);
-        if (n.depth != depth) return;
-        if (++at_depth <= kMaxBoxes) boxes.push_back({{"id", n.id}, {"box", box_json(n.box)}, {"leaf", n.leaf}, {"prims", n.prims}});
-    });
-    if (!draws)
-        throw RequestError(422, a.spec() + " does not draw its nodes yet (bvh and grid do: docs/explore.md)");
-    return json_response({{"structure", a.spec()}, {"depth", depth}, {"max_depth", max_depth}, {"count", at_depth},
-                          {"truncated", at_depth > kMaxBoxes}, {"boxes", boxes}});
+    const std::optional<Drawing> d = draw_structure(a, depth);
+    if (!d) throw RequestError(422, a.spec() + " does not draw its nodes (docs/explore.md lists what each structure draws)");
+    // Above the limit every k-th element is sent, so the picture still spans the whole level.
+    const size_t count = d->elements.size();
+    const size_t stride = count > kMaxBoxes ? (count + kMaxBoxes - 1) / kMaxBoxes : 1;
+    json boxes = json::array(), planes = json::array(), oriented = json::array(), tetrahedra = json::array();
+    size_t drawn = 0;
+    for (size_t i = 0; i < count; i += stride, ++drawn) {
+        const DrawnElement& e = d->elements[i];
+        json points = json::array();
+        for (const Vec3& p : e.points) points.push_back(vec_json(p));
+        switch (e.shape) {
+        case DrawnElement::Shape::Box:
+            boxes.push_back({{"id", e.id}, {"box", box_json(e.box)}, {"leaf", e.leaf}, {"prims", e.prims}});
+            break;
+        case DrawnElement::Shape::Plane: {
+            json j = {{"id", e.id}, {"polygon", points}};
+            if (!e.box.empty()) j["cell"] = box_json(e.box);
+            planes.push_back(std::move(j));
+            break;
+        }
+        case DrawnElement::Shape::Oriented:
+            oriented.push_back({{"id", e.id}, {"center", points[0]}, {"axes", {points[1], points[2], points[3]}},
+                                {"leaf", e.leaf}, {"prims", e.prims}});
+            break;
+        case DrawnElement::Shape::Tetra:
+            tetrahedra.push_back({{"id", e.id}, {"corners", points}});
+            break;
+        }
+    }
+    return json_response({{"structure", a.spec()}, {"depth", depth}, {"max_depth", d->max_depth},
+                          {"drawing", d->kind}, {"depth_means", d->depth_means}, {"count", count}, {"drawn", drawn},
+                          {"stride", stride}, {"truncated", stride > 1}, {"limit", kMaxBoxes}, {"boxes", boxes},
+                          {"planes", planes}, {"oriented", oriented}, {"tetrahedra", tetrahedra}});
 }
 
 Response Session::heatmap(const std::string& body) const {
