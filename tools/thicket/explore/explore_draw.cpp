@@ -343,15 +343,24 @@ std::optional<Drawing> draw_nodes(const Accel& accel, uint32_t depth, const char
     return d;
 }
 
+/// Calls f(structure) when `accel` is Structure<Set>; returns whether it was.
+template <template <PrimitiveSet> class Structure, class Set, class F>
+bool as_over(const Accel& accel, F& f) {
+    const auto* p = dynamic_cast<const Structure<Set>*>(&accel);
+    if (p) f(*p);
+    return p != nullptr;
+}
+
 /// Calls f(structure) when `accel` is Structure<P> for one of the primitive sets the registry
-/// builds over (with_primitives in accel/dispatch.h); returns whether it was.
+/// builds over (with_primitives in accel/dispatch.h); returns whether it was. (Structure<Set> is
+/// named only where both are template parameters: clang 14 crashes checking the constraint of
+/// Structure<Triangles<...>> written with a concrete set in a template's body.)
 template <template <PrimitiveSet> class Structure, class F>
 bool as(const Accel& accel, F&& f) {
-    if (auto* p = dynamic_cast<const Structure<Triangles<TriangleTest::Moller>>*>(&accel)) return f(*p), true;
-    if (auto* p = dynamic_cast<const Structure<Triangles<TriangleTest::Watertight>>*>(&accel)) return f(*p), true;
-    if (auto* p = dynamic_cast<const Structure<MixedPrimitives<TriangleTest::Moller>>*>(&accel)) return f(*p), true;
-    if (auto* p = dynamic_cast<const Structure<MixedPrimitives<TriangleTest::Watertight>>*>(&accel)) return f(*p), true;
-    return false;
+    return as_over<Structure, Triangles<TriangleTest::Moller>>(accel, f) ||
+           as_over<Structure, Triangles<TriangleTest::Watertight>>(accel, f) ||
+           as_over<Structure, MixedPrimitives<TriangleTest::Moller>>(accel, f) ||
+           as_over<Structure, MixedPrimitives<TriangleTest::Watertight>>(accel, f);
 }
 
 }  // namespace
