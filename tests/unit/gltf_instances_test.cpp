@@ -98,6 +98,21 @@ TEST(GltfInstances, SharedMeshIsOneGeometryWithAnInstancePerNode) {
     EXPECT_EQ(flat.mesh.indices, before.indices);
     EXPECT_EQ(flat.mesh.material_ids, before.material_ids);
 
+    // The world transforms, worked out by hand: node 1 is parent * T(0, 1, 0) and node 2 parent *
+    // T(1, 0, 2) R(120 degrees about (1, 1, 1)) S(0.5), the parent T(3, 0, 0) Rz(45 degrees)
+    // S(1, 2, 1); node 3's column-major matrix mirrors x, shears z into y and moves by -3 in x.
+    // Brute force alone cannot see these: the flattened scene goes through the same hierarchy.
+    const float h = std::sqrt(0.5f);
+    auto expect_near = [](Vec3 got, Vec3 want, const char* what) {
+        EXPECT_NEAR(got.x, want.x, 1e-5f) << what;
+        EXPECT_NEAR(got.y, want.y, 1e-5f) << what;
+        EXPECT_NEAR(got.z, want.z, 1e-5f) << what;
+    };
+    expect_near(instanced.instances[1].transform.point({1, 0, 0}), {3 - h, 3 * h, 0}, "node 1");
+    expect_near(instanced.instances[2].transform.point({1, 0, 0}), {3, 2 * h, 2}, "node 2");
+    expect_near(instanced.instances[3].transform.point({0, 0, 1}), {-3, 0.3f, 1}, "node 3");
+    expect_near(instanced.instances[3].transform.point({1, 0, 0}), {-4, 0, 0}, "node 3");
+
     const size_t hits = expect_same_answers(instanced, flat, 400);
     EXPECT_GT(hits, 100u) << "too few rays hit for the comparison to mean much";
 }
