@@ -16,5 +16,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         thicket::load_gltf(path);
     } catch (const thicket::Error&) {
     }
+    // The scene path too: nodes sharing a mesh become instances, whose transforms are checked there.
+    try {
+        thicket::load_gltf_scene(path);
+    } catch (const thicket::Error&) {
+    }
     return 0;
 }

@@ -130,9 +130,15 @@ PYBIND11_MODULE(_thicket, m) {
                    std::to_string(s.shapes.size()) + " shapes>";
         });
 
-    m.def("load_scene", [](const py::object& path) { return load_scene_file(path_argument(path, "path")); }, "path"_a,
-          "load_scene(path) -> Scene. Loads a PLY, OBJ, glTF or JSON scene, or a built-in one ('cornell', 'teapot-patches'). path: str, bytes "
-          "or os.PathLike; a NUL byte in it is a ValueError");
+    m.def("load_scene", [](const py::object& path, bool flatten) {
+              LoadOptions options;
+              options.flatten = flatten;
+              return load_scene_file(path_argument(path, "path"), options);
+          }, "path"_a, py::kw_only(), "flatten"_a = false,
+          "load_scene(path, *, flatten=False) -> Scene. Loads a PLY, OBJ, glTF or JSON scene, or a built-in one ('cornell', "
+          "'teapot-patches'). path: str, bytes or os.PathLike; a NUL byte in it is a ValueError. A glTF mesh that several "
+          "nodes place becomes one geometry with an instance per node (Scene.instance_count); flatten=True gives one "
+          "triangle soup with a copy per node instead, as before instancing");
 
     py::class_<AccelHandle>(m, "Accel", "An acceleration structure over a scene: thicket.build(scene, spec)")
         .def_property_readonly("spec", [](const AccelHandle& h) { return h.accel->spec(); },

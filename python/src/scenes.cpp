@@ -147,12 +147,12 @@ void set_scene_vertices(Scene& scene, const py::handle& geometry_id, const py::h
     }
 }
 
-std::shared_ptr<Scene> load_scene_file(const std::string& path) {
+std::shared_ptr<Scene> load_scene_file(const std::string& path, const LoadOptions& options) {
     std::optional<InputFile> file = input_file(path, "the scene file");
     std::unique_ptr<Scene> scene;
     {
         py::gil_scoped_release nogil;
-        scene = std::make_unique<Scene>(load_scene(path));
+        scene = std::make_unique<Scene>(load_scene(path, options));
     }
     return std::shared_ptr<Scene>(scene.release(), SceneSource{std::move(file)});
 }

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "inputs.h"
+#include "thicket/scene/loaders.h"
 #include "thicket/scene/scene.h"
 
 namespace thicket::python {
@@ -31,8 +32,8 @@ std::shared_ptr<Scene> scene_from_arrays(const py::array& vertices, const py::ar
 /// library's own too. The rows are converted a block at a time, as Scene(V, T) converts them.
 void set_scene_vertices(Scene& scene, const py::handle& geometry_id, const py::handle& vertices);
 
-/// load_scene(path) without the GIL, the scene remembering the regular file it came from.
-std::shared_ptr<Scene> load_scene_file(const std::string& path);
+/// load_scene(path, options) without the GIL, the scene remembering the regular file it came from.
+std::shared_ptr<Scene> load_scene_file(const std::string& path, const LoadOptions& options = {});
 
 /// The file `scene` was loaded from by load_scene_file, as it was then; nothing for a built-in
 /// scene or one made from arrays.

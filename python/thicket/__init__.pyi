@@ -235,8 +235,11 @@ class RaycastingScene:
                             height_px: int) -> _Answer[np.float32]:
         """intrinsic (3, 3), extrinsic (4, 4) world to camera -> float32 (height_px, width_px, 6)."""
 
-def load_scene(path: _Path) -> Scene:
-    """A PLY, OBJ, glTF or JSON scene file, or a built-in name ('cornell', 'teapot-patches')."""
+def load_scene(path: _Path, *, flatten: bool = False) -> Scene:
+    """A PLY, OBJ, glTF or JSON scene file, or a built-in name ('cornell', 'teapot-patches').
+
+    A glTF mesh that several nodes place becomes one geometry with an instance per node;
+    flatten=True gives one triangle soup with a copy per node instead."""
 
 def build(scene: Scene, spec: str = "bvh8") -> Accel:
     """A structure from a spec string NAME[:key=value,...] (see accels())."""

@@ -366,4 +366,10 @@ void InstancedAccel::refit(const Scene&, unsigned) {
                          "new one when the prototype geometry moves");
 }
 
+void InstancedAccel::save(std::ostream&) const {
+    throw Error(spec() + ": a structure over a scene with instances cannot be saved to a file; a glTF scene whose "
+                         "nodes share a mesh loads as instances, and loaded with --flatten (one triangle soup) its "
+                         "structure can be saved");
+}
+
 }  // namespace thicket

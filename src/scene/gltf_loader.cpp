@@ -86,19 +86,112 @@ class GltfReader {
 public:
     GltfReader(const std::string& path, const tinygltf::Model& model) : path_(path), model_(model) {}
 
-    /// The geometry, with `materials` (gltf::read_materials of the same file) as its materials.
-    TriangleMesh read(std::vector<Material> materials) {
-        if (materials.size() != model_.materials.size())
-            fail("the JSON has " + std::to_string(materials.size()) + " materials but tinygltf read " +
-                 std::to_string(model_.materials.size()));
-        mesh_.materials = std::move(materials);
-        visited_.assign(model_.nodes.size(), 0);
-        for (int root : roots()) walk(root);
-        return std::move(mesh_);
+    /// The geometry as one triangle soup: every node's meshes with its world transform applied,
+    /// in traversal order, with `materials` (gltf::read_materials of the same file) as its materials.
+    TriangleMesh read_flat(std::vector<Material> materials) {
+        set_materials(std::move(materials));
+        TriangleMesh mesh;
+        for (const Placement& p : placements()) add_mesh_triangles(p.mesh, &p.world, mesh);
+        mesh.materials = materials_;
+        return mesh;
+    }
+
+    /// The geometry as a scene: flattened as read_flat() when `flatten` or when no mesh is placed
+    /// twice; otherwise instanced (docs/shapes.md, "glTF scenes"): geometry 0 holds the meshes placed
+    /// once, flattened, under an identity instance (instance 0); each mesh placed by several nodes
+    /// is one more geometry in its own space, with one instance per node in traversal order.
+    /// A node whose transform instancing refuses (near-singular, checked_inverse) is flattened.
+    Scene read_scene(std::vector<Material> materials, bool flatten) {
+        Scene scene;
+        scene.name = path_;
+        set_materials(std::move(materials));
+        const std::vector<Placement> places = placements();
+        std::vector<uint32_t> uses(model_.meshes.size(), 0);
+        for (const Placement& p : places) ++uses[size_t(p.mesh)];
+
+        // A mesh placed twice or more, read once in its own space; empty ones (points, lines)
+        // draw nothing and are never instanced.
+        std::vector<TriangleMesh> local(model_.meshes.size());
+        std::vector<char> shared(model_.meshes.size(), 0);
+        if (!flatten)
+            for (size_t m = 0; m < uses.size(); ++m)
+                if (uses[m] >= 2) {
+                    add_mesh_triangles(int(m), nullptr, local[m]);
+                    shared[m] = local[m].triangle_count() > 0;
+                }
+        std::vector<char> instanced(places.size(), 0);
+        std::vector<Affine> transforms(places.size());
+        bool any = false;
+        for (size_t i = 0; i < places.size(); ++i) {
+            if (!shared[size_t(places[i].mesh)]) continue;
+            transforms[i] = affine_of(places[i].world);
+            // NaN (a non-finite entry) fails the comparison too.
+            instanced[i] = transform_condition(transforms[i]) <= kMaxTransformCondition;
+            any = any || instanced[i];
+        }
+        TriangleMesh rest;
+        for (size_t i = 0; i < places.size(); ++i)
+            if (!instanced[i]) add_mesh_triangles(places[i].mesh, &places[i].world, rest);
+        if (!any) {
+            rest.materials = materials_;
+            scene.mesh = std::move(rest);
+            return scene;
+        }
+
+        // Materials are set once at the end: add_mesh would copy the whole table per geometry.
+        std::vector<uint32_t> material_ids;
+        auto add = [&](TriangleMesh& m) {
+            material_ids.insert(material_ids.end(), m.material_ids.begin(), m.material_ids.end());
+            m.material_ids.clear();
+            return scene.add_mesh(m);
+        };
+        if (rest.triangle_count() > 0) scene.add_instance(add(rest), Affine{});
+        std::vector<uint32_t> geometry_of_mesh(model_.meshes.size(), kNoPrim);
+        for (size_t i = 0; i < places.size(); ++i) {
+            if (!instanced[i]) continue;
+            uint32_t& g = geometry_of_mesh[size_t(places[i].mesh)];
+            if (g == kNoPrim) g = add(local[size_t(places[i].mesh)]);
+            scene.add_instance(g, transforms[i]);
+        }
+        if (!materials_.empty()) {
+            scene.mesh.materials = materials_;
+            scene.mesh.material_ids = std::move(material_ids);
+        }
+        return scene;
     }
 
 private:
     [[noreturn]] void fail(const std::string& what) const { throw Error(path_ + ": " + what); }
+
+    /// One node that draws a mesh, with its world transform.
+    struct Placement {
+        int mesh = -1;
+        Mat4 world{};
+    };
+
+    void set_materials(std::vector<Material> materials) {
+        if (materials.size() != model_.materials.size())
+            fail("the JSON has " + std::to_string(materials.size()) + " materials but tinygltf read " +
+                 std::to_string(model_.materials.size()));
+        materials_ = std::move(materials);
+    }
+
+    /// Every node of the scene that has a mesh, depth first from the roots, children in order.
+    std::vector<Placement> placements() {
+        visited_.assign(model_.nodes.size(), 0);
+        std::vector<Placement> out;
+        for (int root : roots()) walk(root, out);
+        return out;
+    }
+
+    /// The 3x4 top of a column-major affine glTF matrix (its last row is 0 0 0 1 for every
+    /// transform glTF allows).
+    static Affine affine_of(const Mat4& m) {
+        Affine a;
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 4; ++c) a.m[r][c] = float(m[size_t(c * 4 + r)]);
+        return a;
+    }
 
     /// The default scene, else scene 0, else every node that is nobody's child.
     std::vector<int> roots() const {
@@ -151,7 +244,7 @@ private:
 
     /// Depth-first, children in order, with an explicit stack: a deep (corrupt) hierarchy cannot
     /// overflow the call stack, and each node may be entered once, which also rejects cycles.
-    void walk(int root) {
+    void walk(int root, std::vector<Placement>& out) {
         std::vector<std::pair<int, Mat4>> stack{{root, identity()}};
         while (!stack.empty()) {
             auto [index, parent] = stack.back();
@@ -167,14 +260,20 @@ private:
                 if (size_t(node.mesh) >= model_.meshes.size())
                     fail("node " + std::to_string(index) + ": mesh " + std::to_string(node.mesh) +
                          " does not exist");
-                const tinygltf::Mesh& mesh = model_.meshes[size_t(node.mesh)];
-                for (size_t p = 0; p < mesh.primitives.size(); ++p)
-                    add_primitive(mesh.primitives[p], world,
-                                  "mesh " + std::to_string(node.mesh) + " primitive " + std::to_string(p));
+                out.push_back({node.mesh, world});
             }
             for (auto it = node.children.rbegin(); it != node.children.rend(); ++it)
                 stack.push_back({*it, world});
         }
+    }
+
+    /// Appends every primitive of mesh `index` to `out`, its vertices carried by `world` (kept as
+    /// they are in the file when null).
+    void add_mesh_triangles(int index, const Mat4* world, TriangleMesh& out) {
+        const tinygltf::Mesh& mesh = model_.meshes[size_t(index)];
+        for (size_t p = 0; p < mesh.primitives.size(); ++p)
+            add_primitive(mesh.primitives[p], world, "mesh " + std::to_string(index) + " primitive " + std::to_string(p),
+                          out);
     }
 
     /// Resolves an accessor to a strided view after checking it lies inside its buffer.
@@ -218,15 +317,16 @@ private:
         }
         if (model_.materials.empty()) return no_material;
         if (default_material_ == no_material) {
-            default_material_ = uint32_t(mesh_.materials.size());
+            default_material_ = uint32_t(materials_.size());
             Material fallback;
             fallback.name = "default";
-            mesh_.materials.push_back(fallback);
+            materials_.push_back(fallback);
         }
         return default_material_;
     }
 
-    void add_primitive(const tinygltf::Primitive& prim, const Mat4& world, const std::string& where) {
+    void add_primitive(const tinygltf::Primitive& prim, const Mat4* world, const std::string& where,
+                       TriangleMesh& out) {
         if (prim.mode < TINYGLTF_MODE_TRIANGLES) return;  // points and lines carry no surface
         if (prim.mode > TINYGLTF_MODE_TRIANGLE_FAN)
             fail(where + ": unknown mode " + std::to_string(prim.mode));
@@ -238,14 +338,14 @@ private:
         if (pos_type != TINYGLTF_COMPONENT_TYPE_FLOAT)
             fail(where + ": POSITION must be float (component type " + std::to_string(pos_type) + ")");
 
-        const size_t base = mesh_.positions.size();
+        const size_t base = out.positions.size();
         if (pos.count > std::numeric_limits<uint32_t>::max() - base) fail(where + ": too many vertices");
         // No exact reserve(base + count) here: with N nodes sharing a mesh it reallocated the whole
         // array for every node, O(N^2); push_back's geometric growth keeps loading linear.
         for (size_t i = 0; i < pos.count; ++i) {
             float p[3];
             std::memcpy(p, pos.at(i), sizeof p);
-            mesh_.positions.push_back(transform_point(world, p));
+            out.positions.push_back(world ? transform_point(*world, p) : Vec3{p[0], p[1], p[2]});
         }
 
         std::vector<uint32_t> idx;
@@ -280,9 +380,9 @@ private:
 
         const uint32_t material = material_for(prim.material, where);
         auto emit = [&](uint32_t a, uint32_t b, uint32_t c) {
-            mesh_.indices.push_back(uint32_t(base) + a);
-            mesh_.indices.push_back(uint32_t(base) + b);
-            mesh_.indices.push_back(uint32_t(base) + c);
+            out.indices.push_back(uint32_t(base) + a);
+            out.indices.push_back(uint32_t(base) + b);
+            out.indices.push_back(uint32_t(base) + c);
         };
         const size_t n = idx.size();
         if (prim.mode == TINYGLTF_MODE_TRIANGLES) {
@@ -298,14 +398,14 @@ private:
         } else {
             for (size_t i = 1; i + 1 < n; ++i) emit(idx[0], idx[i], idx[i + 1]);
         }
-        if (material != no_material) mesh_.material_ids.resize(mesh_.triangle_count(), material);
+        if (material != no_material) out.material_ids.resize(out.triangle_count(), material);
     }
 
     static constexpr uint32_t no_material = uint32_t(-1);
 
     const std::string& path_;
     const tinygltf::Model& model_;
-    TriangleMesh mesh_;
+    std::vector<Material> materials_;  ///< the file's, then the default one if a primitive needs it
     std::vector<char> visited_;
     uint32_t default_material_ = no_material;
 };
@@ -337,11 +437,14 @@ bool has_extension(const std::string& path, const char* ext) {
     return e == ext;
 }
 
-}  // namespace
+/// A parsed glTF file: tinygltf's model and the materials read from its JSON.
+struct Parsed {
+    tinygltf::Model model;
+    std::vector<Material> materials;
+};
 
-/// Reads a .gltf or .glb file: the default scene's meshes with node transforms applied, one
-/// triangle per TRIANGLES/STRIP/FAN triangle in traversal order. Throws thicket::Error.
-TriangleMesh load_gltf(const std::string& path) {
+/// Parses the .gltf or .glb file `path` (buffers loaded, images skipped). Throws thicket::Error.
+Parsed parse_gltf(const std::string& path) {
     const std::string bytes = read_input_file(path, "glTF file");
     if (bytes.size() > std::numeric_limits<unsigned>::max()) throw Error(path + ": larger than 4 GiB (glTF's limit)");
     const std::string dir = std::filesystem::path(path).parent_path().string();
@@ -349,14 +452,14 @@ TriangleMesh load_gltf(const std::string& path) {
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(&ignore_image, nullptr);
     loader.SetFsCallbacks({&referenced_file_exists, &path_as_written, &read_referenced_file, nullptr, nullptr});
-    tinygltf::Model model;
+    Parsed parsed;
     std::string err, warn;
     bool ok = false;
     try {
         ok = has_extension(path, ".glb")
-                 ? loader.LoadBinaryFromMemory(&model, &err, &warn, reinterpret_cast<const unsigned char*>(bytes.data()),
+                 ? loader.LoadBinaryFromMemory(&parsed.model, &err, &warn, reinterpret_cast<const unsigned char*>(bytes.data()),
                                                unsigned(bytes.size()), dir)
-                 : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(), unsigned(bytes.size()), dir);
+                 : loader.LoadASCIIFromString(&parsed.model, &err, &warn, bytes.data(), unsigned(bytes.size()), dir);
     } catch (const std::exception& e) {
         throw Error(path + ": glTF parse error: " + e.what());
     }
@@ -369,8 +472,22 @@ TriangleMesh load_gltf(const std::string& path) {
         throw Error(path + ": " + (err.empty() ? std::string("cannot parse glTF file") : one_line(err)));
     }
     if (!warn.empty()) std::cerr << path << ": warning: " << one_line(warn) << '\n';
-    std::vector<Material> materials = gltf::read_materials(gltf::json_text(bytes, glb, path), path);
-    return GltfReader(path, model).read(std::move(materials));
+    parsed.materials = gltf::read_materials(gltf::json_text(bytes, glb, path), path);
+    return parsed;
+}
+
+}  // namespace
+
+/// Reads a .gltf or .glb file: the default scene's meshes with node transforms applied, one
+/// triangle per TRIANGLES/STRIP/FAN triangle in traversal order. Throws thicket::Error.
+TriangleMesh load_gltf(const std::string& path) {
+    Parsed parsed = parse_gltf(path);
+    return GltfReader(path, parsed.model).read_flat(std::move(parsed.materials));
+}
+
+Scene load_gltf_scene(const std::string& path, const LoadOptions& options) {
+    Parsed parsed = parse_gltf(path);
+    return GltfReader(path, parsed.model).read_scene(std::move(parsed.materials), options.flatten);
 }
 
 }  // namespace thicket

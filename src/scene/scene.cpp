@@ -239,7 +239,9 @@ TriangleMesh load_mesh(const std::string& path) {
 
 const char* builtin_scene_names() { return "cornell, teapot-patches"; }
 
-Scene load_scene(const std::string& path_or_builtin) {
+Scene load_scene(const std::string& path_or_builtin) { return load_scene(path_or_builtin, LoadOptions{}); }
+
+Scene load_scene(const std::string& path_or_builtin, const LoadOptions& options) {
     Scene scene;
     scene.name = path_or_builtin;
     if (path_or_builtin == "cornell") {
@@ -258,7 +260,9 @@ Scene load_scene(const std::string& path_or_builtin) {
     if (ext == ".json") {
         scene = load_json_scene(path);
         scene.name = path;
-    } else if (ext == ".ply" || ext == ".obj" || ext == ".gltf" || ext == ".glb") {
+    } else if (ext == ".gltf" || ext == ".glb") {
+        scene = load_gltf_scene(path, options);
+    } else if (ext == ".ply" || ext == ".obj") {
         scene.mesh = load_mesh(path);
     } else {
         throw Error(path + ": unknown scene format " +

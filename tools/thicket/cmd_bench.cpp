@@ -290,6 +290,7 @@ Command add_bench_command(CLI::App& app) {
         "THICKET_ISA=scalar|sse|avx2|avx512 caps bvh8's kernels and Embree's device alike (Embree's sse2 for "
         "scalar and sse), so that a capped run compares the same instruction sets.");
     cmd->add_option("SCENE", args->scenes, scene_help())->required()->type_name("SCENE...");
+    add_flatten_option(cmd);
     cmd->add_option("-a,--accel", args->accels,
                     "structure spec to measure (repeatable); `all` = every registered variant (`thicket accels`); "
                     "default bvh")

@@ -7,6 +7,7 @@
 
 #include "common.h"
 #include "point_commands.h"
+#include "thicket/accel/instances.h"
 #include "thicket/accel/point_queries.h"
 #include "thicket/core/error.h"
 #include "thicket/util/npy.h"
@@ -46,7 +47,10 @@ int run_closest(const PointArgs& args) {
     const std::string output = prepare_output(args.output, args.force, {args.scene, args.points, args.accel.load});
     const std::vector<Vec3> points = read_points(args.points);
     const size_t n = points.size();
-    const Scene scene = load_scene_verbose(args.scene);
+    Scene scene = load_scene_verbose(args.scene);
+    // Closest points have no two-level walk: a scene with instances (a glTF whose nodes share a
+    // mesh) is answered over its flattened copy, whose ids are the ones a trace of it reports.
+    if (!scene.instances.empty()) scene = flatten_instances(scene, scene.instances);
     const std::unique_ptr<Accel> accel = make_accel_verbose(args.accel, spec, scene, args.threads);
     const PointQueries queries(*accel, scene);
     if (&queries.closest_accel() != accel.get())

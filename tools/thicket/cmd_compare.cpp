@@ -309,6 +309,7 @@ Command add_compare_command(CLI::App& app) {
         "thread. Charts go to --plot-dir: SCENE-growth.svg (build time against N, log-log) and SCENE-mrays.svg. "
         "Existing files are never overwritten without --force.");
     cmd->add_option("SCENE", args->scenes, scene_help())->required()->type_name("SCENE...");
+    add_flatten_option(cmd);
     cmd->add_option("-a,--accel", args->accels,
                     "structure spec to compare (repeatable); default: every registered structure with its default "
                     "options except brute force (name `brute` to include it: it is timed on a sample of the rays); `all` = "

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "thicket/core/error.h"
+#include "thicket/scene/loaders.h"
 #include "thicket/util/atomic_file.h"
 #include "thicket/util/progress.h"
 
@@ -22,8 +23,21 @@ std::string scene_help() {
            builtin_scene_names() + ")";
 }
 
+namespace {
+// One subcommand runs per process, so its --flatten can live here: load_scene_verbose() reads it
+// and no command has to carry the flag to the load itself.
+LoadOptions load_options;
+}  // namespace
+
 void add_scene_argument(CLI::App* cmd, std::string& scene) {
     cmd->add_option("SCENE", scene, scene_help())->required()->type_name("SCENE");
+    add_flatten_option(cmd);
+}
+
+void add_flatten_option(CLI::App* cmd) {
+    cmd->add_flag("--flatten", load_options.flatten,
+                  "glTF: copy a mesh into one triangle soup for every node that places it (the behaviour before "
+                  "instancing) instead of one geometry with an instance per node");
 }
 
 void add_accel_options(CLI::App* cmd, AccelChoice& choice, bool accel_required) {
@@ -117,7 +131,7 @@ Scene load_scene_verbose(const std::string& path) {
                     "in `thicket render` and `thicket cost`; this command loads files and the built-in scenes (" +
                     std::string(builtin_scene_names()) + ")");
     const auto start = std::chrono::steady_clock::now();
-    Scene scene = load_scene(path);
+    Scene scene = load_scene(path, load_options);
     const VertexCounts bad = count_bad_vertices(scene);
     if (bad.nonfinite)
         std::fprintf(stderr, "%s: warning: %zu vertices are NaN or infinite (beyond float's 3.4e38); triangles using them are never hit\n",

@@ -39,8 +39,11 @@ struct AccelChoice {
 
 /// Help text of the SCENE argument.
 std::string scene_help();
-/// Adds the SCENE positional argument.
+/// Adds the SCENE positional argument, and --flatten (add_flatten_option).
 void add_scene_argument(CLI::App* cmd, std::string& scene);
+/// Adds --flatten: glTF scenes are loaded as one triangle soup with a copy of a mesh per node
+/// that places it (LoadOptions::flatten) by every later load_scene_verbose() of the process.
+void add_flatten_option(CLI::App* cmd);
 /// Adds --accel and --load; `accel_required` makes --accel mandatory (and omits --load).
 void add_accel_options(CLI::App* cmd, AccelChoice& choice, bool accel_required = false);
 /// Adds --threads N (0, the default, uses every core; at most kMaxThreads).

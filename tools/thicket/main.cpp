@@ -19,7 +19,8 @@ int main(int argc, char** argv) {
                  "thicket"};
     app.set_version_flag("--version", "thicket " THICKET_VERSION);
     app.require_subcommand(1);
-    app.footer("Run `thicket COMMAND --help` for a command's options.");
+    app.footer("Run `thicket COMMAND --help` for a command's options. Every command that loads a SCENE takes --flatten: "
+               "a glTF mesh that several nodes place is copied into one triangle soup instead of instanced.");
 
     std::vector<thicket::cli::Command> commands;
     try {

@@ -79,6 +79,9 @@ public:
     AccelStats stats() const override;
     /// Throws Error: move instances with set_transform(); a moved prototype needs a new structure.
     void refit(const Scene& scene, unsigned threads = 0) override;
+    /// Throws Error: an instanced structure has no file format yet; the message names the way out
+    /// for a glTF scene (loaded flattened, its structure can be saved).
+    void save(std::ostream& out) const override;
 
 private:
     struct Node {
