@@ -22,6 +22,7 @@
 #include "thicket/bvh8/blocks.h"
 #include "thicket/bvh8/build.h"
 #include "thicket/bvh8/compress.h"
+#include "thicket/bvh8/draw.h"
 #include "thicket/bvh8/bvh8_io.h"
 #include "thicket/bvh8/closest_point.h"
 #include "thicket/bvh8/isa.h"
@@ -133,10 +134,24 @@ public:
 
     Aabb bounds() const override { return tree_.bounds; }
 
+    /// The kernels' recording entry reports every step (bvh8/draw.h numbers them).
+    static constexpr bool kRecordsSteps = true;
+    bool for_each_node(const std::function<void(const NodeBox&)>& visit) const override {
+        bvh8::for_each_node(ctx_, node_count_, kBlocks, visit);
+        return true;
+    }
+
     template <class C>
     Hit closest(const Ray& ray, C& counters) const {
         if (node_count_ == 0) return miss_for(ray);
-        if constexpr (std::is_same_v<C, RayCounters>)
+        if constexpr (RecordsSteps<C>) {
+            // The counting traversal's own text with the recorder's calls compiled in (RecordFn).
+            RayCounters counted;
+            const Hit hit = kernels_->record[kLeafKind](ctx_, ray, &counted, bvh8::step_sink(counters, node_count_));
+            counters.nodes += counted.nodes;
+            counters.prims += counted.prims;
+            return hit;
+        } else if constexpr (std::is_same_v<C, RayCounters>)
             return kernels_->closest[kLeafKind][1](ctx_, ray, &counters);
         else
             return kernels_->closest[kLeafKind][0](ctx_, ray, nullptr);

@@ -133,6 +133,26 @@ using PointQueryFn = void (*)(const TraceContext& ctx, const float* p, float bou
 /// there are (more than capacity: call again with room for all).
 using AllHitsFn = uint32_t (*)(const TraceContext& ctx, const Ray& ray, Hit* out, uint32_t capacity);
 
+/// Where a recording traversal (RecordFn) reports its steps: plain function pointers into
+/// baseline code (src/bvh8/record.cpp), so that no recorder code is compiled for a kernel's ISA.
+/// Ids are for_each_node's (bvh8/draw.h): a node's index, or leaf_base plus a leaf's first
+/// block or id.
+struct StepSink {
+    void* recorder = nullptr;
+    uint32_t leaf_base = 0;  ///< the node count
+    void (*node)(void* recorder, uint32_t id, float t_enter) = nullptr;  ///< entered, or culled at +inf
+    void (*skip)(void* recorder, uint32_t id, float t_enter) = nullptr;  ///< deferred, then dropped
+    void (*prim)(void* recorder, uint32_t id, float closest) = nullptr;  ///< tested; closest after it
+};
+
+/// Closest hit as ClosestFn's counting entry answers it (the same nodes in the same order, the
+/// same hit), every step told to `sink`: the root entered at ray.tmin (its box is never tested,
+/// its children's are); each visited node's children tested, the culled ones in lane order and
+/// then the entered ones in the order they will be visited (nearest first, ties in lane order);
+/// each deferred child dropped when popped beyond the hit; each leaf's primitives in storage
+/// order with the closest distance after each. Counts into `counters` as ClosestFn does.
+using RecordFn = Hit (*)(const TraceContext& ctx, const Ray& ray, RayCounters* counters, const StepSink& sink);
+
 /// One ISA's kernels.
 struct KernelTable {
     const char* isa;
@@ -145,6 +165,7 @@ struct KernelTable {
     PacketClosestFn packet_closest[kLeafKinds];
     PointQueryFn closest_point;
     AllHitsFn all_hits[kLeafKinds];  ///< null for leaves of shapes (Accel::all_hits answers)
+    RecordFn record[kLeafKinds];     ///< one instantiation per leaf kind, the octant read at run time
 };
 
 }  // namespace thicket::bvh8
