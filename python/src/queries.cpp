@@ -213,11 +213,11 @@ std::span<const Vec3> points_of(const Rows& rows) {
 /// rounding the points here would hide that.
 Rows query_points(const py::handle& obj, const char* query) {
     if (is_float64_array(obj))
-        throw py::value_error("query_points: " + std::string(query) +
+        throw py::value_error("query_points: expected dtype float32, got shape " +
+                              shape_text(py::reinterpret_borrow<py::array>(obj)) + " float64: " + std::string(query) +
                               " takes float32 points only (closest points, distances and occupancy are computed in "
-                              "float32 by every structure, precision=double ones included), got shape " +
-                              shape_text(py::reinterpret_borrow<py::array>(obj)) +
-                              " float64: convert with .astype(numpy.float32)");
+                              "float32 by every structure, precision=double ones included); convert with "
+                              ".astype(numpy.float32)");
     Rows rows = float32_rows(obj, "query_points", {3});
     const size_t bad = first_non_finite(points_of(rows));
     if (bad < rows.count)
