@@ -124,3 +124,29 @@ def test_float64_arrays_are_checked_as_float32_ones(structures):
     wide[:, 7] = np.inf
     assert np.array_equal(bvh.count_intersections(wide[:, :8]), bvh.count_intersections(np.ascontiguousarray(wide[:, :8])))
     assert bvh.count_intersections(wide[:, :8]).min() >= 1
+
+
+def test_dask_takes_float64_rays_for_a_precision_double_spec(far_box, structures, tmp_path):
+    da = pytest.importorskip("dask.array")
+    import thicket.dask
+    vertices, triangles, _, rays = far_box
+    # The scene as a file the tasks load (here on the calling process's threads: the cluster is
+    # test_dask's); PLY float64 vertices keep their doubles.
+    ply = tmp_path / "far.ply"
+    header = (f"ply\nformat binary_little_endian 1.0\nelement vertex {len(vertices)}\nproperty double x\n"
+              f"property double y\nproperty double z\nelement face {len(triangles)}\n"
+              "property list uchar uint vertex_indices\nend_header\n")
+    faces = np.zeros(len(triangles), [("n", "u1"), ("v", "<u4", 3)])
+    faces["n"], faces["v"] = 3, triangles
+    ply.write_bytes(header.encode() + vertices.astype("<f8").tobytes() + faces.tobytes())
+    lazy = da.from_array(rays, chunks=(150, 8))
+    hits = thicket.dask.cast_rays(lazy, str(ply), spec="bvh:precision=double")
+    got = dict(zip(hits, da.compute(*hits.values(), scheduler="threads")))
+    want = structures[0].cast_rays(rays)
+    for key in want:
+        assert got[key].dtype == want[key].dtype and np.array_equal(got[key], want[key]), key
+    counts = thicket.dask.count_intersections(lazy, str(ply), spec="bvh:precision=double").compute(scheduler="threads")
+    assert np.array_equal(counts, structures[0].count_intersections(rays))
+    for spec, saved in (("bvh", None), ("bvh:precision=double", str(ply))):
+        with pytest.raises(ValueError, match="float64 rays are taken with a spec built with precision=double"):
+            thicket.dask.cast_rays(lazy, str(ply), spec=spec, saved=saved)
