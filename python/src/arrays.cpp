@@ -31,25 +31,33 @@ std::string widths_text(std::initializer_list<size_t> widths) {
 
 }  // namespace
 
-Rows float32_rows(const py::handle& obj, const char* what, std::initializer_list<size_t> widths) {
+namespace {
+
+template <class T>
+const char* dtype_name() {
+    return sizeof(T) == 4 ? "float32" : "float64";
+}
+
+}  // namespace
+
+template <class T>
+RowsOf<T> typed_rows(const py::handle& obj, const char* what, std::initializer_list<size_t> widths,
+                     const std::string& dtype_hint) {
     if (!py::isinstance<py::array>(obj))
-        throw py::value_error(std::string(what) + ": expected a numpy float32 array of shape " + widths_text(widths) +
-                              ", got " + std::string(py::str(py::type::of(obj).attr("__name__"))));
+        throw py::value_error(std::string(what) + ": expected a numpy " + dtype_name<T>() + " array of shape " +
+                              widths_text(widths) + ", got " + std::string(py::str(py::type::of(obj).attr("__name__"))));
     py::array a = py::reinterpret_borrow<py::array>(obj);
     const std::string received = shape_text(a) + " " + std::string(py::str(a.dtype()));
     const bool width_ok = a.ndim() >= 1 && std::find(widths.begin(), widths.end(), size_t(a.shape(a.ndim() - 1))) != widths.end();
     if (!width_ok)
         throw py::value_error(std::string(what) + ": expected shape " + widths_text(widths) + ", got shape " + received);
-    if (!a.dtype().is(py::dtype::of<float>()))
-        throw py::value_error(std::string(what) + ": expected dtype float32, got shape " + received +
-                              " (convert with .astype(numpy.float32)" +
-                              (std::string(what) == "rays" ? std::string("; cast_rays and test_occlusions take float64 rays "
-                                                                         "on a structure built with precision=double)")
-                                                           : std::string(")")));
-    Rows r;
+    if (!a.dtype().is(py::dtype::of<T>()))
+        throw py::value_error(std::string(what) + ": expected dtype " + dtype_name<T>() + ", got shape " + received +
+                              dtype_hint);
+    RowsOf<T> r;
     // Copies only a strided (or broadcast) array, its memory checked first; a C-contiguous
-    // float32 array is used in place.
-    r.array = contiguous(a, py::dtype::of<float>(), what);
+    // array of T is used in place.
+    r.array = contiguous(a, py::dtype::of<T>(), what);
     r.width = size_t(a.shape(a.ndim() - 1));
     r.count = 1;
     for (py::ssize_t i = 0; i + 1 < a.ndim(); ++i) {
@@ -59,7 +67,19 @@ Rows float32_rows(const py::handle& obj, const char* what, std::initializer_list
     return r;
 }
 
-void check_answer_memory(const Rows& rows, size_t bytes_per_row, const char* query) {
+template Rows typed_rows<float>(const py::handle&, const char*, std::initializer_list<size_t>, const std::string&);
+template RowsD typed_rows<double>(const py::handle&, const char*, std::initializer_list<size_t>, const std::string&);
+
+Rows float32_rows(const py::handle& obj, const char* what, std::initializer_list<size_t> widths) {
+    const bool rays = std::string(what) == "rays";
+    return typed_rows<float>(obj, what, widths,
+                             rays ? " (convert with .astype(numpy.float32); cast_rays, test_occlusions, "
+                                    "count_intersections and list_intersections take float64 rays on a structure "
+                                    "built with precision=double)"
+                                  : " (convert with .astype(numpy.float32))");
+}
+
+void check_answer_memory(const RowsShape& rows, size_t bytes_per_row, const char* query) {
     std::string shape = "(";
     for (const py::ssize_t n : rows.lead) shape += std::to_string(n) + ", ";
     shape += std::to_string(rows.width) + ")";
@@ -67,7 +87,7 @@ void check_answer_memory(const Rows& rows, size_t bytes_per_row, const char* que
                      std::string(query) + ": answering an array of shape " + shape);
 }
 
-void check_interval_arguments(const Rows& rows, std::optional<float> tnear, std::optional<float> tfar) {
+void check_interval_arguments(const RowsShape& rows, std::optional<float> tnear, std::optional<float> tfar) {
     if (rows.width == 8 && (tnear || tfar))
         throw py::value_error("rays of 8 columns carry tmin and tmax in columns 6 and 7; tnear/tfar apply only to "
                               "rays of 6 columns");

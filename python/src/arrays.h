@@ -22,23 +22,36 @@ namespace thicket::python {
 
 namespace py = pybind11;
 
-/// A C-contiguous float32 array of rows: `lead` is its shape without the last axis, `width` the
-/// last axis, `count` the number of rows (the product of `lead`). Holding `array` keeps `data` valid.
-struct Rows {
+/// A C-contiguous array of rows: `lead` is its shape without the last axis, `width` the last
+/// axis, `count` the number of rows (the product of `lead`). Holding `array` keeps the data valid.
+struct RowsShape {
     py::array array;
     std::vector<py::ssize_t> lead;
     size_t width = 0;
     size_t count = 0;
-    const float* data() const { return static_cast<const float*>(array.data()); }
 };
+
+/// Rows of T (float: float32 rays and points; double: float64 rays for precision=double).
+template <class T>
+struct RowsOf : RowsShape {
+    const T* data() const { return static_cast<const T*>(array.data()); }
+};
+using Rows = RowsOf<float>;
+using RowsD = RowsOf<double>;
 
 /// "(3, 7)": a shape as Python prints it.
 std::string shape_text(const py::array& a);
 
-/// `obj` as rows of float32 whose last axis is one of `widths`; anything else is a ValueError
-/// naming `what`, the shape and dtype received and what is expected. Never converts dtypes
-/// silently (a float64 array is refused, as Open3D does): the caller says .astype(np.float32).
-/// Copies only when the array is not C-contiguous.
+/// `obj` as rows of T (float32 or float64) whose last axis is one of `widths`; anything else is a
+/// ValueError naming `what`, the shape and dtype received and what is expected, `dtype_hint`
+/// added to a wrong dtype's message (what to do instead). Never converts dtypes silently.
+/// Copies only when the array is not C-contiguous (its memory checked first).
+template <class T>
+RowsOf<T> typed_rows(const py::handle& obj, const char* what, std::initializer_list<size_t> widths,
+                     const std::string& dtype_hint);
+
+/// typed_rows<float>: a float64 array is refused (as Open3D does), the message saying to convert
+/// with .astype(numpy.float32) and, for rays, which structures take float64 ones.
 Rows float32_rows(const py::handle& obj, const char* what, std::initializer_list<size_t> widths);
 
 /// The rows as the library reads them (accel/ray_rows.h): rows of 6 take [tnear, tfar] as every
@@ -64,11 +77,11 @@ inline void stream_fence() {
 /// MemoryError "<query>: answering an array of shape (...) needs ..." unless `bytes_per_row`
 /// for every row of `rows` fits in the memory available (check_allocation): called before a
 /// query allocates its output arrays.
-void check_answer_memory(const Rows& rows, size_t bytes_per_row, const char* query);
+void check_answer_memory(const RowsShape& rows, size_t bytes_per_row, const char* query);
 
 /// tnear/tfar of the 6-column form; with 8 columns the row holds the interval and giving them too
 /// is a ValueError (which one would win is not obvious).
-void check_interval_arguments(const Rows& rows, std::optional<float> tnear, std::optional<float> tfar);
+void check_interval_arguments(const RowsShape& rows, std::optional<float> tnear, std::optional<float> tfar);
 
 /// Memory for an output array of `bytes`, or an empty handle for numpy's own allocator: an array
 /// of 1 MiB and more gets a mapping of its own on 2 MiB pages (take_huge_mapping, core/huge_pages.h),

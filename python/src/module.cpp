@@ -148,8 +148,9 @@ PYBIND11_MODULE(_thicket, m) {
         .def_property_readonly("bounds", [](const AccelHandle& h) { return bounds_tuple(h.accel->bounds()); },
                                "((xmin, ymin, zmin), (xmax, ymax, zmax)): the box around its primitives, floats")
         .def_property_readonly("double_precision", [](const AccelHandle& h) { return h.accel->double_precision(); },
-                               "bool: built with precision=double (brute, bvh): cast_rays and test_occlusions then "
-                               "take float64 rays too and trace them in double (t_hit and primitive_uvs float64)")
+                               "bool: built with precision=double (brute, bvh): cast_rays, test_occlusions, "
+                               "count_intersections and list_intersections then take float64 rays too and trace "
+                               "them in double (t_hit and primitive_uvs float64)")
         .def("stats", [](const AccelHandle& h) { return stats_dict(h.accel->stats()); },
              "stats() -> dict: spec (str), primitives, nodes, leaves, max_depth, bytes, primitive_bytes (ints), "
              "sah_cost, build_ms (floats), extra (dict of the structure's own figures)")
@@ -191,20 +192,23 @@ PYBIND11_MODULE(_thicket, m) {
         }, "rays"_a, "nthreads"_a = 0,
              "count_intersections(rays, nthreads=0) -> int32 ndarray. rays: float32 (..., 6) or (..., 8). "
              "Number of surface crossings of each ray, int32 (...) (a shared edge or vertex "
-             "crossed once counts once)")
+             "crossed once counts once). float64 rays: crossings found in double by a structure built with "
+             "precision=double, refused by the others with a ValueError naming precision=double")
         .def("list_intersections", [](const AccelHandle& h, const py::handle& rays, const py::handle& nthreads) {
             return list_intersections(h, rays, thread_count(nthreads));
         }, "rays"_a, "nthreads"_a = 0,
              "list_intersections(rays, nthreads=0) -> dict. rays: float32 (..., 6) or (..., 8), N of them taken in "
              "row order. Every crossing, sorted by t per ray (Open3D 0.17's layout): ray_splits uint32 (N + 1,) "
              "(ray i's crossings are [ray_splits[i], ray_splits[i + 1])), ray_ids uint32 (M,), t_hit float32 (M,), "
-             "geometry_ids uint32 (M,), primitive_ids uint32 (M,), primitive_uvs float32 (M, 2)")
+             "geometry_ids uint32 (M,), primitive_ids uint32 (M,), primitive_uvs float32 (M, 2). float64 rays: as "
+             "count_intersections (precision=double structures only; t_hit and primitive_uvs then float64)")
         .def("compute_closest_points", [](AccelHandle& h, const py::handle& points, const py::handle& nthreads) {
             return compute_closest_points(h, points, thread_count(nthreads));
         }, "query_points"_a, "nthreads"_a = 0,
              "compute_closest_points(query_points, nthreads=0) -> dict. query_points: float32 (..., 3). The closest "
              "surface point of each: points float32 (..., 3), geometry_ids uint32 (...), primitive_ids uint32 (...), "
-             "primitive_uvs float32 (..., 2), primitive_normals float32 (..., 3) (triangle scenes)")
+             "primitive_uvs float32 (..., 2), primitive_normals float32 (..., 3) (triangle scenes). float64 points "
+             "are refused on every structure (point queries are computed in float32, precision=double included)")
         .def("compute_distance", [](AccelHandle& h, const py::handle& points, const py::handle& nthreads) {
             return compute_distance(h, points, thread_count(nthreads));
         }, "query_points"_a, "nthreads"_a = 0,

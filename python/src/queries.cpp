@@ -208,7 +208,16 @@ std::span<const Vec3> points_of(const Rows& rows) {
 
 /// Query points as rows of 3 floats, every one finite: a NaN or infinite point has no closest
 /// point and no inside, and the traversals assume finite origins, so it is refused up front.
-Rows query_points(const py::handle& obj) {
+/// float64 points are refused naming the precision `query` needs: closest points and occupancy
+/// are computed in float32 by every structure (precision=double has no point queries), and
+/// rounding the points here would hide that.
+Rows query_points(const py::handle& obj, const char* query) {
+    if (is_float64_array(obj))
+        throw py::value_error("query_points: expected dtype float32, got shape " +
+                              shape_text(py::reinterpret_borrow<py::array>(obj)) + " float64: " + std::string(query) +
+                              " takes float32 points only (closest points, distances and occupancy are computed in "
+                              "float32 by every structure, precision=double ones included); convert with "
+                              ".astype(numpy.float32)");
     Rows rows = float32_rows(obj, "query_points", {3});
     const size_t bad = first_non_finite(points_of(rows));
     if (bad < rows.count)
@@ -234,6 +243,7 @@ const Accel& closest_accel(const AccelHandle& h) {
 }  // namespace
 
 py::array count_intersections(const AccelHandle& h, const py::handle& rays_obj, unsigned threads) {
+    if (is_float64_array(rays_obj)) return count_intersections_double(h, rays_obj, threads);
     const Rows rows = float32_rows(rays_obj, "rays", {6, 8});
     check_answer_memory(rows, sizeof(int32_t), "count_intersections");
     auto result = new_array<int32_t>(rows.lead);
@@ -249,6 +259,7 @@ py::array count_intersections(const AccelHandle& h, const py::handle& rays_obj, 
 }
 
 py::dict list_intersections(const AccelHandle& h, const py::handle& rays_obj, unsigned threads) {
+    if (is_float64_array(rays_obj)) return list_intersections_double(h, rays_obj, threads);
     const Rows rows = float32_rows(rays_obj, "rays", {6, 8});
     HitLists lists;
     {
@@ -299,7 +310,7 @@ py::dict list_intersections(const AccelHandle& h, const py::handle& rays_obj, un
 }
 
 py::dict compute_closest_points(AccelHandle& h, const py::handle& points_obj, unsigned threads) {
-    const Rows rows = query_points(points_obj);
+    const Rows rows = query_points(points_obj, "compute_closest_points");
     check_answer_memory(rows, 12 + 4 + 4 + 8 + 12, "compute_closest_points");  // point, two ids, uv, normal
     closest_accel(h);
     auto points = new_array<float>(rows.lead, {3});
@@ -338,7 +349,7 @@ py::dict compute_closest_points(AccelHandle& h, const py::handle& points_obj, un
 }
 
 py::array compute_distance(AccelHandle& h, const py::handle& points_obj, unsigned threads) {
-    const Rows rows = query_points(points_obj);
+    const Rows rows = query_points(points_obj, "compute_distance");
     check_answer_memory(rows, sizeof(float), "compute_distance");
     closest_accel(h);
     auto result = new_array<float>(rows.lead);
@@ -352,7 +363,7 @@ py::array compute_distance(AccelHandle& h, const py::handle& points_obj, unsigne
 }
 
 py::array compute_occupancy(const AccelHandle& h, const py::handle& points_obj, unsigned threads, int nsamples) {
-    const Rows rows = query_points(points_obj);
+    const Rows rows = query_points(points_obj, "compute_occupancy");
     check_samples(nsamples);
     check_answer_memory(rows, sizeof(float), "compute_occupancy");
     auto result = new_array<float>(rows.lead);
@@ -370,7 +381,7 @@ py::array compute_occupancy(const AccelHandle& h, const py::handle& points_obj, 
 }
 
 py::array compute_signed_distance(AccelHandle& h, const py::handle& points_obj, unsigned threads, int nsamples) {
-    const Rows rows = query_points(points_obj);
+    const Rows rows = query_points(points_obj, "compute_signed_distance");
     check_samples(nsamples);
     check_answer_memory(rows, sizeof(float), "compute_signed_distance");
     closest_accel(h);
@@ -388,7 +399,7 @@ double batch_seconds(AccelHandle& h, const py::handle& rows_obj, const std::stri
     BatchOptions options;
     options.threads = threads;
     if (query == "closest_point") {
-        const Rows rows = query_points(rows_obj);
+        const Rows rows = query_points(rows_obj, "_batch_seconds");
         check_answer_memory(rows, sizeof(Vec3) + sizeof(NearestPoint), "_batch_seconds");
         const Accel& accel = closest_accel(h);
         py::gil_scoped_release nogil;

@@ -25,6 +25,11 @@ def use_everything(tmp_dir: str) -> float:
     counts: npt.NDArray[np.int32] = accel.count_intersections(rays)
     listed = accel.list_intersections(rays.reshape(-1, 6))
     assert listed["ray_splits"].shape == (10,) and bool(occluded[1, 1]) and int(counts[1, 1]) == 1
+    far = thicket.build(scene, "bvh:precision=double")  # float64 rays: answers in float64
+    wide = rays.astype(np.float64)
+    t64: npt.NDArray[np.float64] = far.cast_rays(wide)["t_hit"]
+    uv64: npt.NDArray[np.float64] = far.list_intersections(wide.reshape(-1, 6))["primitive_uvs"]
+    assert t64.dtype == np.float64 and uv64.dtype == np.float64 and int(far.count_intersections(wide)[1, 1]) == 1
     points = np.array([[0.2, 0.2, 1.0]], np.float32)
     closest = accel.compute_closest_points(points)
     assert closest["points"].shape == (1, 3)

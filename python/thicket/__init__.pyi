@@ -11,7 +11,7 @@ import numpy.typing as npt
 _Path = Union[str, bytes, "os.PathLike[str]", "os.PathLike[bytes]"]
 _Bounds = Tuple[Tuple[float, float, float], Tuple[float, float, float]]
 _Float32Array = npt.NDArray[np.float32]
-_Float64Array = npt.NDArray[np.float64]  # rays for precision=double structures
+_Float64Array = npt.NDArray[np.float64]  # rays for precision=double structures, and their t and uv
 _UInt32Array = npt.NDArray[np.uint32]
 _Vector3 = Union[npt.ArrayLike, Any]  # 3 numbers: a list, a numpy array, an Open3D Tensor
 _Triple = Tuple[float, float, float]
@@ -23,20 +23,22 @@ INVALID_ID: int
 class Error(RuntimeError):
     """A bad spec, a malformed file, a saved structure of another scene."""
 
-class _CastResult(TypedDict):
-    t_hit: _Float32Array                 # (...)       inf on a miss
+_Real = TypeVar("_Real", np.float32, np.float64)  # the rays' dtype: float64 on precision=double structures
+
+class _CastResult(TypedDict, Generic[_Real]):
+    t_hit: npt.NDArray[_Real]            # (...)       inf on a miss; float64 for float64 rays
     geometry_ids: _UInt32Array           # (...)       INVALID_ID on a miss
     primitive_ids: _UInt32Array          # (...)       INVALID_ID on a miss
-    primitive_uvs: _Float32Array         # (..., 2)
+    primitive_uvs: npt.NDArray[_Real]    # (..., 2)
     primitive_normals: _Float32Array     # (..., 3)
 
-class _IntersectionList(TypedDict):
+class _IntersectionList(TypedDict, Generic[_Real]):
     ray_splits: _UInt32Array             # (N + 1,)    ray i's crossings are [ray_splits[i], ray_splits[i+1])
     ray_ids: _UInt32Array                # (M,)
-    t_hit: _Float32Array                 # (M,)
+    t_hit: npt.NDArray[_Real]            # (M,)        float64 for float64 rays
     geometry_ids: _UInt32Array           # (M,)
     primitive_ids: _UInt32Array          # (M,)
-    primitive_uvs: _Float32Array         # (M, 2)
+    primitive_uvs: npt.NDArray[_Real]    # (M, 2)
 
 class _ClosestPoints(TypedDict):
     points: _Float32Array                # (..., 3)
@@ -105,7 +107,8 @@ class Accel:
     def bounds(self) -> _Bounds: ...
     @property
     def double_precision(self) -> bool:
-        """Built with precision=double: cast_rays and test_occlusions take float64 rays too."""
+        """Built with precision=double: cast_rays, test_occlusions, count_intersections and list_intersections take
+        float64 rays too and trace them in double."""
     def stats(self) -> Dict[str, Any]:
         """spec, primitives, nodes, leaves, max_depth, bytes, primitive_bytes, sah_cost, build_ms, extra."""
     def save(self, path: _Path, overwrite: bool = False) -> None: ...
@@ -120,18 +123,20 @@ class Accel:
         """Moves an instance to a (3, 4) or (4, 4) affine transform, rebuilding only the top level."""
     def locate(self, primitive_ids: npt.ArrayLike) -> _Located:
         """Flattened primitive ids (...) of a structure with instances -> instance, geometry and primitive ids (...)."""
-    def cast_rays(self, rays: Union[_Float32Array, _Float64Array], nthreads: int = 0, coherent: bool = False) -> _CastResult:
+    def cast_rays(self, rays: npt.NDArray[_Real], nthreads: int = 0, coherent: bool = False) -> _CastResult[_Real]:
         """rays float32 (..., 6) or (..., 8) -> closest hits, each array of the rays' leading shape; float64 rays
-        on a precision=double structure only (t_hit and primitive_uvs then float64)."""
+        on a precision=double structure only (t_hit and primitive_uvs then float64; the others raise ValueError
+        naming precision=double)."""
     def test_occlusions(self, rays: Union[_Float32Array, _Float64Array], tnear: Optional[float] = None, tfar: Optional[float] = None,
                         nthreads: int = 0, coherent: bool = False) -> npt.NDArray[np.bool_]:
-        """rays float32 (..., 6) or (..., 8) -> bool (...)."""
-    def count_intersections(self, rays: _Float32Array, nthreads: int = 0) -> npt.NDArray[np.int32]:
-        """rays float32 (..., 6) or (..., 8) -> int32 (...)."""
-    def list_intersections(self, rays: _Float32Array, nthreads: int = 0) -> _IntersectionList:
-        """rays float32 (..., 6) or (..., 8), N of them in row order -> every crossing, sorted by t per ray."""
+        """rays float32 (..., 6) or (..., 8) -> bool (...); float64 rays as cast_rays."""
+    def count_intersections(self, rays: Union[_Float32Array, _Float64Array], nthreads: int = 0) -> npt.NDArray[np.int32]:
+        """rays float32 (..., 6) or (..., 8) -> int32 (...); float64 rays as cast_rays (crossings found in double)."""
+    def list_intersections(self, rays: npt.NDArray[_Real], nthreads: int = 0) -> _IntersectionList[_Real]:
+        """rays float32 (..., 6) or (..., 8), N of them in row order -> every crossing, sorted by t per ray; float64
+        rays as cast_rays (t_hit and primitive_uvs then float64)."""
     def compute_closest_points(self, query_points: _Float32Array, nthreads: int = 0) -> _ClosestPoints:
-        """query_points float32 (..., 3)."""
+        """query_points float32 (..., 3); float64 is a ValueError on every structure (point queries are float32)."""
     def compute_distance(self, query_points: _Float32Array, nthreads: int = 0) -> _Float32Array:
         """query_points float32 (..., 3) -> float32 (...)."""
     def compute_signed_distance(self, query_points: _Float32Array, nthreads: int = 0, nsamples: int = 1) -> _Float32Array:

@@ -11,7 +11,9 @@ replaced or changed (a different inode, size or modification time): then the nex
 again. The paths (str, bytes or os.PathLike) must be readable on the workers. A numpy array of
 rays is taken as one too (wrapped with dask.array.from_array). Rays are chunked along their leading axes only (the last axis, 6 or 8 columns, is
 made one chunk). The results are Dask arrays with the rays' leading chunks, as the single-process
-queries answer them: the same values, ray for ray.
+queries answer them: the same values, ray for ray. float64 rays are taken with a `spec` built with
+precision=double (t_hit and primitive_uvs then float64, as Accel.cast_rays answers them); with any
+other spec, or a saved structure (always float), they are refused before any work.
 """
 
 import numbers
@@ -64,17 +66,20 @@ def load_count():
     return _loads
 
 
-# cast_rays' answers packed in one float32 block per chunk, so one task casts each chunk once and
-# the five outputs are views of it: t, primitive id and geometry id (their bits), u, v, normal x, y, z.
+# cast_rays' answers packed in one block per chunk, of the rays' dtype, so one task casts each chunk
+# once and the five outputs are views of it: t, primitive id and geometry id (their bits in float32;
+# their values, exact, in float64), u, v, normal x, y, z.
 _PACKED = 8
 
 
 def _cast_block(block, scene_path, spec, saved, nthreads):
-    hits = _accel(scene_path, spec, saved).cast_rays(np.ascontiguousarray(block, np.float32), nthreads=nthreads)
-    out = np.empty(block.shape[:-1] + (_PACKED,), np.float32)
+    block = np.ascontiguousarray(block)
+    hits = _accel(scene_path, spec, saved).cast_rays(block, nthreads=nthreads)
+    out = np.empty(block.shape[:-1] + (_PACKED,), block.dtype)
     out[..., 0] = hits["t_hit"]
-    out[..., 1] = hits["primitive_ids"].view(np.float32)
-    out[..., 2] = hits["geometry_ids"].view(np.float32)
+    wide = block.dtype == np.float64
+    out[..., 1] = hits["primitive_ids"] if wide else hits["primitive_ids"].view(np.float32)
+    out[..., 2] = hits["geometry_ids"] if wide else hits["geometry_ids"].view(np.float32)
     out[..., 3:5] = hits["primitive_uvs"]
     out[..., 5:8] = hits["primitive_normals"]
     return out
@@ -98,7 +103,7 @@ def _check_nthreads(nthreads):
         raise ValueError(f"nthreads must be 0 (one thread per core) or a thread count up to 4294967295, got {nthreads}")
 
 
-def _one_chunk_last_axis(rays):
+def _one_chunk_last_axis(rays, spec, saved):
     if isinstance(rays, np.ndarray):
         rays = da.from_array(rays)
     elif not isinstance(rays, da.Array):
@@ -106,35 +111,39 @@ def _one_chunk_last_axis(rays):
                         f"got {type(rays).__name__}")
     if rays.ndim < 1 or rays.shape[-1] not in (6, 8):
         raise ValueError(f"rays: expected a dask array of shape (..., 6) or (..., 8), got shape {rays.shape}")
-    if rays.dtype != np.float32:
-        raise ValueError(f"rays: expected dtype float32, got shape {rays.shape} {rays.dtype}")
+    double = saved is None and "precision=double" in str(spec)
+    if rays.dtype != np.float32 and not (double and rays.dtype == np.float64):
+        raise ValueError(f"rays: expected dtype float32, got shape {rays.shape} {rays.dtype} (float64 rays are taken "
+                         f"with a spec built with precision=double, e.g. 'bvh:precision=double', and no saved structure; "
+                         f"else convert with .astype(numpy.float32))")
     return rays.rechunk({rays.ndim - 1: -1}) if len(rays.chunks[-1]) > 1 else rays
 
 
 def cast_rays(rays, scene_path, spec="bvh8", saved=None, nthreads=0):
     """Closest hits of a Dask array of rays (a numpy array is wrapped with dask.array.from_array;
     anything else is a TypeError): a dict of Dask arrays with cast_rays' keys."""
-    rays = _one_chunk_last_axis(rays)
+    rays = _one_chunk_last_axis(rays, spec, saved)
     _check_nthreads(nthreads)
     packed = rays.map_blocks(_cast_block, _path(scene_path, "scene_path"), spec, _path(saved, "saved"), nthreads,
-                             dtype=np.float32, chunks=rays.chunks[:-1] + ((_PACKED,),))
-    prim = packed[..., 1].map_blocks(lambda b: b.view(np.uint32), dtype=np.uint32)
+                             dtype=rays.dtype, chunks=rays.chunks[:-1] + ((_PACKED,),))
+    wide = rays.dtype == np.float64
+    ids = (lambda b: b.astype(np.uint32)) if wide else (lambda b: b.view(np.uint32))
     return {
         "t_hit": packed[..., 0],
-        "geometry_ids": packed[..., 2].map_blocks(lambda b: b.view(np.uint32), dtype=np.uint32),
-        "primitive_ids": prim,
+        "geometry_ids": packed[..., 2].map_blocks(ids, dtype=np.uint32),
+        "primitive_ids": packed[..., 1].map_blocks(ids, dtype=np.uint32),
         "primitive_uvs": packed[..., 3:5],
-        "primitive_normals": packed[..., 5:8],
+        "primitive_normals": packed[..., 5:8].astype(np.float32) if wide else packed[..., 5:8],
     }
 
 
 def _per_ray(rays, scene_path, spec, saved, query, dtype, **kwargs):
-    rays = _one_chunk_last_axis(rays)
+    rays = _one_chunk_last_axis(rays, spec, saved)
     _check_nthreads(kwargs.get("nthreads", 0))
     scene_path, saved = _path(scene_path, "scene_path"), _path(saved, "saved")
 
     def block(b):
-        return getattr(_accel(scene_path, spec, saved), query)(np.ascontiguousarray(b, np.float32), **kwargs)
+        return getattr(_accel(scene_path, spec, saved), query)(np.ascontiguousarray(b), **kwargs)
 
     return rays.map_blocks(block, dtype=dtype, drop_axis=rays.ndim - 1)
 

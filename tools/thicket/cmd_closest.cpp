@@ -29,7 +29,12 @@ struct PointArgs {
 };
 
 /// The points of a .npy file (N, 3), every value finite (accel/point_queries.h refuses the others).
+/// float32 only: closest points and occupancy are computed in float32 by every structure (no
+/// precision=double form answers them), so a float64 file is refused rather than rounded.
 std::vector<Vec3> read_points(const std::string& path) {
+    if (read_npy_header(path).descr == "<f8")
+        throw Error(path + ": float64 points: closest points and occupancy are computed in float32 by every "
+                           "structure (precision=double ones included); save the points as float32");
     const NpyFloatArray values = read_npy_matrix(path, 3);
     const size_t n = values.shape[0];
     std::vector<Vec3> points(n);
@@ -120,7 +125,7 @@ int run_occupancy(const PointArgs& args) {
 void add_point_arguments(CLI::App* cmd, PointArgs& args) {
     add_scene_argument(cmd, args.scene);
     add_accel_options(cmd, args.accel);
-    cmd->add_option("-p,--points", args.points, "query points: .npy float array of shape (N, 3)")
+    cmd->add_option("-p,--points", args.points, "query points: .npy float32 array of shape (N, 3)")
         ->required()
         ->type_name("FILE");
     cmd->add_option("-o,--output", args.output, ".npy file to write the answers to")->required()->type_name("FILE");
@@ -136,7 +141,8 @@ const std::string kSamplesHelp = "directions whose crossing parities vote on ins
 Command add_closest_command(CLI::App& app) {
     auto args = std::make_shared<PointArgs>();
     CLI::App* cmd = app.add_subcommand("closest", "the closest surface point of every point of a .npy file");
-    cmd->footer("Input: float32 (or float64) array of shape (N, 3), one point per row; every value finite.\n"
+    cmd->footer("Input: float32 array of shape (N, 3), one point per row; every value finite (float64 is refused: "
+                "point queries are computed in float32 by every structure, precision=double ones included).\n"
                 "Output: a structured array of shape (N,) with fields x, y, z (the closest point), distance "
                 "(float32; with --signed negative inside the surface), prim (uint32, 4294967295 for an empty "
                 "scene), u, v (float32 barycentrics of vertices 1 and 2). Triangle scenes only. brute, bvh and "
@@ -153,7 +159,8 @@ Command add_occupancy_command(CLI::App& app) {
     auto args = std::make_shared<PointArgs>();
     args->accel = AccelChoice{"bvh8", ""};
     CLI::App* cmd = app.add_subcommand("occupancy", "whether each point of a .npy file lies inside the closed surface");
-    cmd->footer("Input: float32 (or float64) array of shape (N, 3), one point per row; every value finite.\n"
+    cmd->footer("Input: float32 array of shape (N, 3), one point per row; every value finite (float64 is refused: "
+                "point queries are computed in float32 by every structure, precision=double ones included).\n"
                 "Output: a uint8 array of shape (N,), 1 inside and 0 outside: the parity of the surface crossings "
                 "along --samples fixed directions (none along an axis or a diagonal), the majority deciding. "
                 "Meaningful for closed (watertight) surfaces; any structure answers.");

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "common.h"
+#include "thicket/accel/crossings_double.h"
 #include "thicket/accel/ray_rows.h"
 #include "thicket/core/error.h"
 #include "thicket/util/input_file.h"
@@ -75,8 +76,46 @@ void write_crossings(const TraceArgs& args, const std::string& output, const Acc
                       lists.hits.size(), records);
 }
 
-/// Closest or any hit of float64 rays through a precision=double structure: hits written with t,
-/// u and v in float64 (records t '<f8', prim '<u4', u '<f8', v '<f8'), occlusion flags as uint8.
+/// --count and --all for float64 rays through a precision=double structure: the crossings found
+/// in double (accel/crossings_double.h); --all writes records (ray, t '<f8', prim, u '<f8', v '<f8').
+void write_crossings_double(const TraceArgs& args, const std::string& output, const Accel& accel,
+                            const std::vector<RayD>& rays, const std::vector<uint8_t>& valid) {
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<uint32_t> counts(rays.size());
+    count_hits_double(accel, rays, valid, counts, args.threads);
+    uint64_t total = 0;
+    for (uint32_t c : counts) total += c;
+    if (args.count) {
+        std::printf("count   %s crossings of %zu rays in %s, in double\n", std::to_string(total).c_str(), rays.size(),
+                    format_duration(ms_since(start) / 1000).c_str());
+        write_npy_u32(output, counts);
+        return;
+    }
+    // Each crossing is held as HitD while listed, then as a 32-byte record.
+    check_memory(total * (sizeof(HitD) + 32),
+                 "--all: " + std::to_string(total) + " crossings of " + std::to_string(rays.size()) + " rays");
+    const HitListsD lists = list_hits_double(accel, rays, valid, counts, args.threads);
+    std::vector<unsigned char> records(lists.hits.size() * 32);
+    for (size_t row = 0; row < rays.size(); ++row)
+        for (size_t j = lists.splits[row]; j < lists.splits[row + 1]; ++j) {
+            const HitD& h = lists.hits[j];
+            const uint32_t ray = uint32_t(row);
+            unsigned char* r = records.data() + 32 * j;
+            std::memcpy(r, &ray, 4);
+            std::memcpy(r + 4, &h.t, 8);
+            std::memcpy(r + 12, &h.prim, 4);
+            std::memcpy(r + 16, &h.u, 8);
+            std::memcpy(r + 24, &h.v, 8);
+        }
+    std::printf("all     %zu crossings of %zu rays in %s, in double\n", lists.hits.size(), rays.size(),
+                format_duration(ms_since(start) / 1000).c_str());
+    write_npy_records(output, {{"ray", "<u4"}, {"t", "<f8"}, {"prim", "<u4"}, {"u", "<f8"}, {"v", "<f8"}},
+                      lists.hits.size(), records);
+}
+
+/// Closest hit, any hit, --count or --all of float64 rays through a precision=double structure:
+/// hits written with t, u and v in float64 (records t '<f8', prim '<u4', u '<f8', v '<f8'),
+/// occlusion flags as uint8, crossings as write_crossings_double() writes them.
 int run_trace_double(const TraceArgs& args, const std::string& output, const Scene& scene, const AccelSpec& spec) {
     const std::vector<double> values = read_npy_matrix_double(args.rays, 8);
     const size_t n = values.size() / 8;
@@ -85,6 +124,12 @@ int run_trace_double(const TraceArgs& args, const std::string& output, const Sce
     std::vector<RayD> rays(n);
     std::vector<uint8_t> valid(n);
     for (size_t i = 0; i < n; ++i) valid[i] = make_ray_double(&values[8 * i], rays[i]) ? 1 : 0;
+    if (args.count || args.all) {
+        if (n > UINT32_MAX) throw Error(args.rays + ": more than 2^32 - 1 rays for --count or --all");
+        write_crossings_double(args, output, *accel, rays, valid);
+        std::printf("wrote   %s\n", args.output.c_str());
+        return 0;
+    }
     const auto start = std::chrono::steady_clock::now();
     size_t found = 0, invalid = 0;
     std::vector<HitD> hits(args.any_hit ? 0 : n);
@@ -129,8 +174,16 @@ int run_trace(const TraceArgs& args) {
     const std::optional<AccelSpec> spec = validate_accel_choice(args.accel);
     const std::string output = prepare_output(args.output, args.force, {args.scene, args.rays, args.accel.load});
     const bool double_spec = spec && spec->options.count("precision") && spec->get("precision") == "double";
-    if (double_spec && !args.count && !args.all && read_npy_header(args.rays).descr == "<f8")
+    if (read_npy_header(args.rays).descr == "<f8") {
+        // Rounding them to float32 would lose what float64 rays are for (coordinates far from the
+        // origin), so only a double structure takes them.
+        if (!double_spec)
+            throw Error(args.rays + ": float64 rays are traced by structures built with precision=double (--accel "
+                        "bvh:precision=double or brute:precision=double), and " +
+                        (spec ? "'" + args.accel.spec + "'" : std::string("a saved structure (--load)")) +
+                        " is float32: build one with precision=double, or save the rays as float32");
         return run_trace_double(args, output, load_scene_verbose(args.scene), *spec);
+    }
     const NpyFloatArray rays = read_npy_matrix(args.rays, 8);
     const size_t n = rays.shape[0];
     std::printf("rays    %s: %zu rays\n", args.rays.c_str(), n);
@@ -185,21 +238,22 @@ int run_trace(const TraceArgs& args) {
 Command add_trace_command(CLI::App& app) {
     auto args = std::make_shared<TraceArgs>();
     CLI::App* cmd = app.add_subcommand("trace", "trace the rays of a .npy file through a structure built over SCENE");
-    cmd->footer("Input: float32 (or float64) array of shape (N, 8), one ray per row: ox oy oz dx dy dz tmin tmax "
-                "(float64 rays are rounded to float32, except through a structure built with precision=double "
-                "(brute, bvh), which traces them in double and writes t, u and v as float64); "
-                "hits are accepted for tmin <= t <= tmax, t in units of the direction's length. A row with a NaN, "
-                "an infinite origin or direction component, a zero direction or tmin > tmax is answered as a "
-                "miss.\nOutput: a structured array of shape (N,) with fields t (float32, +inf on a miss), prim "
-                "(uint32, 4294967295 on a miss), u, v (float32 barycentrics of vertices 1 and 2); with --any-hit "
-                "a uint8 array of shape (N,), 1 where something lies within [tmin, tmax]. With --count a uint32 "
-                "array of shape (N,): the number of surface crossings within [tmin, tmax] (a crossing through an "
-                "edge or vertex that several triangles share counts once). With --all a structured array of shape "
-                "(M,), one record per crossing, by ray then t: ray (uint32 row), t (float32), prim (uint32), u, v "
-                "(float32).");
+    cmd->footer("Input: float32 (or float64) array of shape (N, 8), one ray per row: ox oy oz dx dy dz tmin tmax; "
+                "float64 rays only through a structure built with precision=double (brute, bvh), which traces "
+                "them in double and writes t, u and v as float64 (every other structure refuses them: rounding "
+                "would lose their precision); hits are accepted for tmin <= t <= tmax, t in units of the "
+                "direction's length. A row with a NaN, an infinite origin or direction component, a zero "
+                "direction or tmin > tmax is answered as a miss.\nOutput: a structured array of shape (N,) with "
+                "fields t (float32, +inf on a miss), prim (uint32, 4294967295 on a miss), u, v (float32 "
+                "barycentrics of vertices 1 and 2); with --any-hit a uint8 array of shape (N,), 1 where something "
+                "lies within [tmin, tmax]. With --count a uint32 array of shape (N,): the number of surface "
+                "crossings within [tmin, tmax] (a crossing through an edge or vertex that several triangles share "
+                "counts once). With --all a structured array of shape (M,), one record per crossing, by ray then "
+                "t: ray (uint32 row), t (float32), prim (uint32), u, v (float32). For float64 rays t, u and v "
+                "are float64 in every output.");
     add_scene_argument(cmd, args->scene);
     add_accel_options(cmd, args->accel);
-    cmd->add_option("-r,--rays", args->rays, "rays to trace: .npy float array of shape (N, 8)")
+    cmd->add_option("-r,--rays", args->rays, "rays to trace: .npy float32 array of shape (N, 8) (float64 for precision=double)")
         ->required()
         ->type_name("FILE");
     cmd->add_option("-o,--output", args->output, ".npy file to write the hits (or occlusion flags) to (- for stdout)")
