@@ -181,7 +181,7 @@ Command add_explain_command(CLI::App& app) {
                 "node whose box was tested and missed (t null), a node entered earlier and dropped unvisited because a nearer "
                 "hit was found since (skip, t its entry), a primitive tested (t: the closest hit so far). Nodes "
                 "carry their box; triangles their corners. `detailed` is false for structures that report only the "
-                "totals (all but bvh and grid for now). The same path as `thicket explore`'s trace request.");
+                "totals (all but bvh, bvh8 and grid for now). The same path as `thicket explore`'s trace request.");
     add_scene_argument(cmd, args->scene);
     add_accel_options(cmd, args->accel);
     cmd->add_option("--ray", args->ray, "the ray: ox,oy,oz,dx,dy,dz[,tmin,tmax]")->required()->type_name("RAY");
