@@ -144,37 +144,7 @@ py::dict list_intersections_double(const AccelHandle& h, const py::handle& rays_
         py::gil_scoped_release nogil;
         lists = list_hits_double(*h.accel, in.rays, in.valid, counts, threads);
     }
-    auto splits = new_array<uint32_t>({py::ssize_t(rays + 1)});
-    auto ray_ids = new_array<uint32_t>({py::ssize_t(n)});
-    auto t_hit = new_array<double>({py::ssize_t(n)});
-    auto geometry_ids = new_array<uint32_t>({py::ssize_t(n)});
-    auto primitive_ids = new_array<uint32_t>({py::ssize_t(n)});
-    auto uvs = new_array<double>({py::ssize_t(n)}, {2});
-    uint32_t* sp = splits.mutable_data();
-    uint32_t* ids = ray_ids.mutable_data();
-    double* t = t_hit.mutable_data();
-    uint32_t* geom = geometry_ids.mutable_data();
-    uint32_t* prim = primitive_ids.mutable_data();
-    double* uv = uvs.mutable_data();
-    for (size_t row = 0; row <= rays; ++row) sp[row] = uint32_t(lists.splits[row]);
-    for (size_t row = 0; row < rays; ++row)
-        for (size_t j = lists.splits[row]; j < lists.splits[row + 1]; ++j) {
-            const HitD& hit = lists.hits[j];
-            ids[j] = uint32_t(row);
-            t[j] = hit.t;
-            geom[j] = h.scene->geometry_of(hit.prim);
-            prim[j] = hit.prim;
-            uv[2 * j] = hit.u;
-            uv[2 * j + 1] = hit.v;
-        }
-    py::dict out;
-    out["ray_splits"] = splits;
-    out["ray_ids"] = ray_ids;
-    out["t_hit"] = t_hit;
-    out["geometry_ids"] = geometry_ids;
-    out["primitive_ids"] = primitive_ids;
-    out["primitive_uvs"] = uvs;
-    return out;
+    return intersection_lists_answer<double>(*h.scene, lists, rays);
 }
 
 }  // namespace thicket::python

@@ -273,40 +273,7 @@ py::dict list_intersections(const AccelHandle& h, const py::handle& rays_obj, un
     // The ray ids, t, geometry and primitive ids and uvs of every crossing, and the splits.
     check_allocation(bytes_of(n, 24) + bytes_of(rows.count + 1, 4),
                      "list_intersections: the " + std::to_string(n) + " crossings of " + std::to_string(rows.count) + " rays");
-    auto splits = new_array<uint32_t>({py::ssize_t(rows.count + 1)});
-    auto ray_ids = new_array<uint32_t>({py::ssize_t(n)});
-    auto t_hit = new_array<float>({py::ssize_t(n)});
-    auto geometry_ids = new_array<uint32_t>({py::ssize_t(n)});
-    auto primitive_ids = new_array<uint32_t>({py::ssize_t(n)});
-    auto uvs = new_array<float>({py::ssize_t(n)}, {2});
-    uint32_t* sp = splits.mutable_data();
-    uint32_t* ids = ray_ids.mutable_data();
-    float* t = t_hit.mutable_data();
-    uint32_t* geom = geometry_ids.mutable_data();
-    uint32_t* prim = primitive_ids.mutable_data();
-    float* uv = uvs.mutable_data();
-    {
-        py::gil_scoped_release nogil;
-        for (size_t row = 0; row <= rows.count; ++row) sp[row] = uint32_t(lists.splits[row]);
-        for (size_t row = 0; row < rows.count; ++row)
-            for (size_t j = lists.splits[row]; j < lists.splits[row + 1]; ++j) {
-                const Hit& hit = lists.hits[j];
-                ids[j] = uint32_t(row);
-                t[j] = hit.t;
-                geom[j] = h.scene->geometry_of(hit.prim);
-                prim[j] = hit.prim;
-                uv[2 * j] = hit.u;
-                uv[2 * j + 1] = hit.v;
-            }
-    }
-    py::dict out;
-    out["ray_splits"] = splits;
-    out["ray_ids"] = ray_ids;
-    out["t_hit"] = t_hit;
-    out["geometry_ids"] = geometry_ids;
-    out["primitive_ids"] = primitive_ids;
-    out["primitive_uvs"] = uvs;
-    return out;
+    return intersection_lists_answer<float>(*h.scene, lists, rows.count);
 }
 
 py::dict compute_closest_points(AccelHandle& h, const py::handle& points_obj, unsigned threads) {

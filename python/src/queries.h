@@ -54,6 +54,48 @@ py::array count_intersections(const AccelHandle& h, const py::handle& rays, unsi
 /// rays + 1), ray_ids, t_hit, geometry_ids, primitive_ids, primitive_uvs, sorted by t per ray.
 py::dict list_intersections(const AccelHandle& h, const py::handle& rays, unsigned threads);
 
+/// list_intersections' dict from `lists` (HitLists or HitListsD: splits per ray, hits in ray order)
+/// over `rays` rays of `scene`: ray_splits, ray_ids, t_hit, geometry_ids, primitive_ids and
+/// primitive_uvs, t and uv as `Real` (float32 for float rays, float64 for float64 ones).
+template <class Real, class Lists>
+py::dict intersection_lists_answer(const Scene& scene, const Lists& lists, size_t rays) {
+    const size_t n = lists.hits.size();
+    auto splits = new_array<uint32_t>({py::ssize_t(rays + 1)});
+    auto ray_ids = new_array<uint32_t>({py::ssize_t(n)});
+    auto t_hit = new_array<Real>({py::ssize_t(n)});
+    auto geometry_ids = new_array<uint32_t>({py::ssize_t(n)});
+    auto primitive_ids = new_array<uint32_t>({py::ssize_t(n)});
+    auto uvs = new_array<Real>({py::ssize_t(n)}, {2});
+    uint32_t* sp = splits.mutable_data();
+    uint32_t* ids = ray_ids.mutable_data();
+    Real* t = t_hit.mutable_data();
+    uint32_t* geom = geometry_ids.mutable_data();
+    uint32_t* prim = primitive_ids.mutable_data();
+    Real* uv = uvs.mutable_data();
+    {
+        py::gil_scoped_release nogil;
+        for (size_t row = 0; row <= rays; ++row) sp[row] = uint32_t(lists.splits[row]);
+        for (size_t row = 0; row < rays; ++row)
+            for (size_t j = lists.splits[row]; j < lists.splits[row + 1]; ++j) {
+                const auto& hit = lists.hits[j];
+                ids[j] = uint32_t(row);
+                t[j] = hit.t;
+                geom[j] = scene.geometry_of(hit.prim);
+                prim[j] = hit.prim;
+                uv[2 * j] = hit.u;
+                uv[2 * j + 1] = hit.v;
+            }
+    }
+    py::dict out;
+    out["ray_splits"] = splits;
+    out["ray_ids"] = ray_ids;
+    out["t_hit"] = t_hit;
+    out["geometry_ids"] = geometry_ids;
+    out["primitive_ids"] = primitive_ids;
+    out["primitive_uvs"] = uvs;
+    return out;
+}
+
 /// Open3D's compute_closest_points for points (..., 3): dict of points, geometry_ids,
 /// primitive_ids, primitive_uvs, primitive_normals. Structures that cannot answer closest points
 /// themselves use a bvh8 built over the same scene on first use.

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "support/independent_math.h"
 #include "thicket/accel/registry.h"
 #include "thicket/bvh8/isa.h"
 #include "thicket/scene/scene.h"
@@ -65,23 +66,6 @@ std::vector<Ray> rays() {
     return out;
 }
 
-/// The ray's interval inside `box` by the slab test in double: {t_in, t_out}, t_in > t_out when
-/// it misses (independent of the kernels' float tests).
-std::pair<double, double> slab(const Ray& r, const Aabb& box) {
-    double t_in = r.tmin, t_out = INFINITY;
-    for (int a = 0; a < 3; ++a) {
-        const double o = r.org[a], d = r.dir[a];
-        if (d == 0.0) {
-            if (o < box.min[a] || o > box.max[a]) return {1.0, 0.0};
-            continue;
-        }
-        double t0 = (double(box.min[a]) - o) / d, t1 = (double(box.max[a]) - o) / d;
-        if (t0 > t1) std::swap(t0, t1);
-        t_in = std::max(t_in, t0);
-        t_out = std::min(t_out, t1);
-    }
-    return {t_in, t_out};
-}
 
 // Crossings this close (in t; rays ~3 long) to a decision are left out of the slab comparison:
 // float and double may decide them differently.
@@ -159,7 +143,7 @@ Replayed replay(const Drawn& tree, const Ray& ray, const std::vector<TraversalSt
                         throw "node " + std::to_string(cur) + ": a child's test missing";
                     if (!std::count(kids.begin(), kids.end(), s.id) || !seen.insert(s.id).second)
                         throw "node " + std::to_string(cur) + ": step names " + std::to_string(s.id) + ", not a child once";
-                    const auto [t_in, t_out] = slab(ray, tree.nodes.at(s.id).box);
+                    const auto [t_in, t_out] = testing::slab_double(ray, tree.nodes.at(s.id).box);
                     const double end = std::min(t_out, double(out.closest));
                     if (s.kind == Kind::Cull) {
                         if (!entered.empty()) throw std::string("a cull after an entered child");
@@ -172,7 +156,7 @@ Replayed replay(const Drawn& tree, const Ray& ray, const std::vector<TraversalSt
                         // the exact test misses, earlier, by less than kGrow in space.
                         Aabb grown = tree.nodes.at(s.id).box;
                         grown.min = grown.min - Vec3(kGrow), grown.max = grown.max + Vec3(kGrow);
-                        const auto [g_in, g_out] = slab(ray, grown);
+                        const auto [g_in, g_out] = testing::slab_double(ray, grown);
                         EXPECT_FALSE(g_in > std::min(g_out, double(out.closest)) + kMargin)
                             << what << ": child " << s.id << " missed but entered";
                         EXPECT_FALSE(s.t > t_in + kMargin || s.t < g_in - kMargin)

@@ -10,6 +10,7 @@
 #include <random>
 #include <set>
 
+#include "support/independent_math.h"
 #include "thicket/accel/registry.h"
 #include "thicket/brute/brute_force.h"
 #include "thicket/bvh/bvh.h"
@@ -33,23 +34,6 @@ Scene soup() {
     return s;
 }
 
-/// The ray's interval inside `box` by the slab test in double: {t_in, t_out}, t_in > t_out when
-/// it misses. Independent of the library's float slab test.
-std::pair<double, double> slab(const Ray& r, const Aabb& box) {
-    double t_in = 0.0, t_out = INFINITY;
-    for (int a = 0; a < 3; ++a) {
-        const double o = r.org[a], d = r.dir[a];
-        if (d == 0.0) {
-            if (o < box.min[a] || o > box.max[a]) return {1.0, 0.0};
-            continue;
-        }
-        double t0 = (double(box.min[a]) - o) / d, t1 = (double(box.max[a]) - o) / d;
-        if (t0 > t1) std::swap(t0, t1);
-        t_in = std::max(t_in, t0);
-        t_out = std::min(t_out, t1);
-    }
-    return {t_in, t_out};
-}
 
 std::vector<Ray> rays() {
     std::mt19937 rng(7);
@@ -108,7 +92,7 @@ TEST(TraversalRecord, BvhEntersExactlyTheBoxesCrossedBeforeTheHit) {
             }
         }
         for (const NodeBox& n : nodes) {
-            const auto [t_in, t_out] = slab(ray, n.box);
+            const auto [t_in, t_out] = testing::slab_double(ray, n.box);
             const double end = std::min(t_out, double(ray.tmax));
             const bool crossed = t_in <= end - kMargin;
             const bool missed = t_in > end + kMargin;
@@ -166,7 +150,7 @@ TEST(TraversalRecord, GridWalksExactlyTheCellsCrossedBeforeTheHitsCell) {
         for (uint32_t z = 0; z < f.res[2]; ++z)
             for (uint32_t y = 0; y < f.res[1]; ++y)
                 for (uint32_t x = 0; x < f.res[0]; ++x) {
-                    const auto [t_in, t_out] = slab(ray, f.cell_box(x, y, z));
+                    const auto [t_in, t_out] = testing::slab_double(ray, f.cell_box(x, y, z));
                     const uint32_t id = f.index(x, y, z);
                     const bool walked_it = std::any_of(walked.begin(), walked.end(), [&](auto& w) { return w.first == id; });
                     if (t_in < t_out - kMargin && t_in < t_last - kMargin) {

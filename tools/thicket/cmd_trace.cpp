@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <type_traits>
+#include <vector>
 
 #include "common.h"
 #include "thicket/accel/crossings_double.h"
@@ -30,6 +32,26 @@ struct TraceArgs {
     bool force = false;
     unsigned threads = 0;
 };
+
+/// --all's packed records of `lists` (HitLists or HitListsD) over `rays` rays: ray '<u4', t,
+/// prim '<u4', u, v, with t, u and v as wide as the hits hold them (4 bytes, or 8 for doubles).
+template <class Lists>
+std::vector<unsigned char> crossing_records(const Lists& lists, size_t rays) {
+    constexpr size_t R = sizeof(std::remove_cvref_t<decltype(lists.hits[0].t)>), size = 8 + 3 * R;
+    std::vector<unsigned char> records(lists.hits.size() * size);
+    for (size_t row = 0; row < rays; ++row)
+        for (size_t j = lists.splits[row]; j < lists.splits[row + 1]; ++j) {
+            const auto& h = lists.hits[j];
+            const uint32_t ray = uint32_t(row);
+            unsigned char* r = records.data() + size * j;
+            std::memcpy(r, &ray, 4);
+            std::memcpy(r + 4, &h.t, R);
+            std::memcpy(r + 4 + R, &h.prim, 4);
+            std::memcpy(r + 8 + R, &h.u, R);
+            std::memcpy(r + 8 + 2 * R, &h.v, R);
+        }
+    return records;
+}
 
 /// --count and --all: every surface crossing of each row's ray (Accel::all_hits), rows without a
 /// ray counted as 0 crossings. --all writes records (ray, t, prim, u, v), by ray then t.
@@ -58,18 +80,7 @@ void write_crossings(const TraceArgs& args, const std::string& output, const Acc
                      "--all: " + std::to_string(total) + " crossings of " + std::to_string(rows.count) + " rays");
     }
     const HitLists lists = crossing_lists(accel, rows, batch);
-    std::vector<unsigned char> records(lists.hits.size() * 20);
-    for (size_t row = 0; row < rows.count; ++row)
-        for (size_t j = lists.splits[row]; j < lists.splits[row + 1]; ++j) {
-            const Hit& h = lists.hits[j];
-            const uint32_t ray = uint32_t(row);
-            unsigned char* r = records.data() + 20 * j;
-            std::memcpy(r, &ray, 4);
-            std::memcpy(r + 4, &h.t, 4);
-            std::memcpy(r + 8, &h.prim, 4);
-            std::memcpy(r + 12, &h.u, 4);
-            std::memcpy(r + 16, &h.v, 4);
-        }
+    const std::vector<unsigned char> records = crossing_records(lists, rows.count);
     std::printf("all     %zu crossings of %zu rays in %s\n", lists.hits.size(), rows.count,
                 format_duration(ms_since(start) / 1000).c_str());
     write_npy_records(output, {{"ray", "<u4"}, {"t", "<f4"}, {"prim", "<u4"}, {"u", "<f4"}, {"v", "<f4"}},
@@ -95,18 +106,7 @@ void write_crossings_double(const TraceArgs& args, const std::string& output, co
     check_memory(total * (sizeof(HitD) + 32),
                  "--all: " + std::to_string(total) + " crossings of " + std::to_string(rays.size()) + " rays");
     const HitListsD lists = list_hits_double(accel, rays, valid, counts, args.threads);
-    std::vector<unsigned char> records(lists.hits.size() * 32);
-    for (size_t row = 0; row < rays.size(); ++row)
-        for (size_t j = lists.splits[row]; j < lists.splits[row + 1]; ++j) {
-            const HitD& h = lists.hits[j];
-            const uint32_t ray = uint32_t(row);
-            unsigned char* r = records.data() + 32 * j;
-            std::memcpy(r, &ray, 4);
-            std::memcpy(r + 4, &h.t, 8);
-            std::memcpy(r + 12, &h.prim, 4);
-            std::memcpy(r + 16, &h.u, 8);
-            std::memcpy(r + 24, &h.v, 8);
-        }
+    const std::vector<unsigned char> records = crossing_records(lists, rays.size());
     std::printf("all     %zu crossings of %zu rays in %s, in double\n", lists.hits.size(), rays.size(),
                 format_duration(ms_since(start) / 1000).c_str());
     write_npy_records(output, {{"ray", "<u4"}, {"t", "<f8"}, {"prim", "<u4"}, {"u", "<f8"}, {"v", "<f8"}},
