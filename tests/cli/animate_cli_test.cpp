@@ -8,6 +8,8 @@
 
 #include "support/cli_run.h"
 
+namespace animate_cli_test {
+
 using thicket::testing::run_thicket;
 
 namespace {
@@ -72,3 +74,5 @@ TEST(BenchAnimate, RefusesWhatCannotRefitAndOptionsOfTheStandardBench) {
     EXPECT_NE(r.output.find("--animate"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("--motion"), std::string::npos) << r.output;
 }
+
+}  // namespace animate_cli_test

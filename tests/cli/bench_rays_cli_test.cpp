@@ -12,6 +12,8 @@
 #include "support/temp_dir.h"
 #include "thicket/util/npy.h"
 
+namespace bench_rays_cli_test {
+
 using thicket::testing::run_thicket;
 using thicket::testing::shell_quote;
 
@@ -90,3 +92,5 @@ TEST(BenchRays, RefusedBeforeAnyWork) {
     EXPECT_EQ(empty.code, 1) << empty.output;
     EXPECT_NE(empty.output.find("no row of its 1 is a ray"), std::string::npos) << empty.output;
 }
+
+}  // namespace bench_rays_cli_test

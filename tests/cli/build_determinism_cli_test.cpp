@@ -11,7 +11,7 @@
 #include "support/cli_dir_test.h"
 #include "thicket/accel/registry.h"
 
-namespace thicket::testing {
+namespace thicket::testing::build_determinism_cli_test {
 namespace {
 
 /// A binary PLY of `count` small random triangles, every fourth degenerate (a point, a segment,
@@ -74,4 +74,4 @@ TEST_F(BuildDeterminismCli, EverySavedStructureWritesTheSameFileInEveryRunAndOnA
 }
 
 }  // namespace
-}  // namespace thicket::testing
+}  // namespace thicket::testing::build_determinism_cli_test

@@ -28,6 +28,8 @@
 #include "thicket/accel/registry.h"
 #include "thicket/util/npy.h"
 
+namespace cli_test {
+
 namespace fs = std::filesystem;
 using namespace thicket;
 
@@ -134,6 +136,9 @@ size_t png_size(const std::string& path, int& width, int& height) {
     return bytes.size();
 }
 
+}  // namespace
+
+// Outside the anonymous namespace: the TEST_F classes derive from it (-Wsubobject-linkage in unity builds).
 class CliTest : public thicket::testing::CliDirTest {
 protected:
     // Nothing but `expected` files in the directory (no outputs or temporaries of failed runs).
@@ -145,6 +150,8 @@ protected:
         EXPECT_EQ(names, expected);
     }
 };
+
+namespace {
 
 }  // namespace
 
@@ -549,3 +556,5 @@ TEST_F(CliTest, OccupancyAndSignedClosestAnswerAsTheLibraryForAnyStructure) {
     EXPECT_NE(r.output.find("nsamples must be odd"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(path("x.npy")));
 }
+
+}  // namespace cli_test

@@ -19,6 +19,8 @@
 #include "support/xml_check.h"
 #include "thicket/accel/registry.h"
 
+namespace compare_cli_test {
+
 namespace fs = std::filesystem;
 using thicket::test::attribute_of;
 using thicket::test::attribute_values;
@@ -51,7 +53,12 @@ std::vector<std::string> words(const std::string& line) {
     return {std::istream_iterator<std::string>(in), std::istream_iterator<std::string>()};
 }
 
+}  // namespace
+
+// Outside the anonymous namespace: the TEST_F classes derive from it (-Wsubobject-linkage in unity builds).
 class CompareCliTest : public thicket::testing::CliDirTest {};
+
+namespace {
 
 // Small enough for the default suite: 36 triangles, growth at 100..1600 (made by subdivision),
 // 32x24 rays, one timed pass.
@@ -187,3 +194,5 @@ TEST_F(CompareCliTest, BadOptionsFailBeforeAnyWork) {
     }
     EXPECT_FALSE(fs::exists(dir_ / "compare-plots")) << "no directory made by a run that failed";
 }
+
+}  // namespace compare_cli_test

@@ -20,6 +20,8 @@
 #include "thicket/scene/scene.h"
 #include "thicket/scene/translate.h"
 
+namespace double_rays_cli_test {
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -196,3 +198,5 @@ TEST_F(DoubleRaysCli, FloatStructuresRefuseFloat64Rays) {
 }
 
 }  // namespace
+
+}  // namespace double_rays_cli_test

@@ -10,6 +10,8 @@
 #include "support/gltf_instances_scene.h"
 #include "thicket/util/npy.h"
 
+namespace gltf_instances_cli_test {
+
 namespace {
 
 using thicket::testing::CliDirTest;
@@ -70,3 +72,5 @@ TEST_F(GltfInstancesCli, EverySceneLoadingCommandDocumentsFlatten) {
 }
 
 }  // namespace
+
+}  // namespace gltf_instances_cli_test

@@ -7,6 +7,8 @@
 #include "support/cli_run.h"
 #include "thicket/bvh8/isa.h"
 
+namespace isa_cli_test {
+
 using thicket::testing::run_thicket;
 
 namespace {
@@ -42,3 +44,5 @@ TEST(IsaCli, AValueThatIsNotALevelIsRefusedByName) {
     EXPECT_NE(r.output.find("THICKET_ISA=avx9000 is not a level"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("scalar, sse, avx2, avx512"), std::string::npos) << r.output;
 }
+
+}  // namespace isa_cli_test

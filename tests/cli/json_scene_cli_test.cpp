@@ -17,6 +17,8 @@
 #include "thicket/accel/registry.h"
 #include "thicket/util/npy.h"
 
+namespace json_scene_cli_test {
+
 
 namespace fs = std::filesystem;
 using namespace thicket;
@@ -192,3 +194,5 @@ TEST_F(InstancedSceneCli, InfoCountsInstancesAndBenchAndRenderTakeThem) {
 }
 
 }  // namespace
+
+}  // namespace json_scene_cli_test

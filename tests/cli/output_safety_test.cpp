@@ -16,6 +16,8 @@
 #include "support/cli_dir_test.h"
 #include "thicket/util/npy.h"
 
+namespace output_safety_test {
+
 namespace fs = std::filesystem;
 using thicket::testing::CliResult;
 using thicket::testing::run_thicket;
@@ -208,3 +210,5 @@ TEST_F(OutputSafety, CompareOfAShapesOnlySceneSaysWhyInsteadOfCrashing) {
 }
 
 }  // namespace
+
+}  // namespace output_safety_test

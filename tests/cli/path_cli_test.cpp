@@ -16,6 +16,8 @@
 #include "thicket/render/film.h"
 #include "thicket/render/image.h"
 
+namespace path_cli_test {
+
 namespace {
 
 using thicket::testing::run_thicket;
@@ -141,3 +143,5 @@ TEST(PathCli, CostCountsFewerTestsWithAStructureThanBruteForce) {
 }
 
 }  // namespace
+
+}  // namespace path_cli_test

@@ -16,6 +16,8 @@
 #include "support/cli_dir_test.h"
 #include "thicket/util/npy.h"
 
+namespace refusals_test {
+
 namespace fs = std::filesystem;
 using thicket::testing::CliResult;
 using thicket::testing::run_thicket;
@@ -164,3 +166,5 @@ TEST_F(Refusals, ImageFormatFollowsTheExtension) {
 }
 
 }  // namespace
+
+}  // namespace refusals_test

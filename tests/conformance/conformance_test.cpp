@@ -20,7 +20,7 @@
 #include "thicket/core/error.h"
 #include "thicket/prims/triangles.h"
 
-namespace thicket::testing {
+namespace thicket::testing::conformance_test {
 namespace {
 
 #ifdef THICKET_SANITIZED
@@ -263,4 +263,4 @@ INSTANTIATE_TEST_SUITE_P(Registry, Conformance, ::testing::ValuesIn(conformance_
 INSTANTIATE_TEST_SUITE_P(Registry, SharedSceneConformance, ::testing::ValuesIn(shared_scene_variants()), test_name);
 
 }  // namespace
-}  // namespace thicket::testing
+}  // namespace thicket::testing::conformance_test

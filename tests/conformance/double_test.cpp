@@ -14,7 +14,7 @@
 #include "thicket/accel/registry.h"
 #include "thicket/core/error.h"
 
-namespace thicket::testing {
+namespace thicket::testing::double_test {
 namespace {
 
 /// Every registered structure with a precision option: the covering set of its variants, each
@@ -237,4 +237,4 @@ TEST(DoublePrecisionOffset, FloatLosesTheHitDoubleFinds) {
 }
 
 }  // namespace
-}  // namespace thicket::testing
+}  // namespace thicket::testing::double_test

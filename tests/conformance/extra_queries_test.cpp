@@ -16,7 +16,7 @@
 #include "thicket/accel/registry.h"
 #include "thicket/core/error.h"
 
-namespace thicket::testing {
+namespace thicket::testing::extra_queries_test {
 namespace {
 
 // A quarter under the sanitizers (about ten times slower), which keeps CI's sanitizer job within
@@ -157,4 +157,4 @@ std::string test_name(const ::testing::TestParamInfo<std::string>& info) {
 INSTANTIATE_TEST_SUITE_P(Registry, ExtraQueries, ::testing::ValuesIn(conformance_variants()), test_name);
 
 }  // namespace
-}  // namespace thicket::testing
+}  // namespace thicket::testing::extra_queries_test

@@ -13,7 +13,7 @@
 #include "thicket/core/error.h"
 #include "thicket/scene/scene.h"
 
-namespace thicket {
+namespace thicket::instances_json_test {
 namespace {
 
 class TempDir : public testing::TempDir {
@@ -133,4 +133,4 @@ TEST(JsonInstances, InstancedStructureReportsWhatItHolds) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::instances_json_test

@@ -21,7 +21,7 @@
 #include "thicket/accel/registry.h"
 #include "thicket/core/error.h"
 
-namespace thicket::testing {
+namespace thicket::testing::instances_test {
 namespace {
 
 #ifdef THICKET_SANITIZED
@@ -305,4 +305,4 @@ TEST(InstanceUpdates, MemoryFollowsUniqueGeometry) {
 }
 
 }  // namespace
-}  // namespace thicket::testing
+}  // namespace thicket::testing::instances_test

@@ -24,7 +24,7 @@
 #include "thicket/bvh8/isa.h"
 #include "thicket/core/error.h"
 
-namespace thicket::testing {
+namespace thicket::testing::refit_test {
 namespace {
 
 #ifdef THICKET_SANITIZED
@@ -448,4 +448,4 @@ TEST(RefitReadme, ExampleRefitsLikeBruteForce) {
 }
 
 }  // namespace
-}  // namespace thicket::testing
+}  // namespace thicket::testing::refit_test

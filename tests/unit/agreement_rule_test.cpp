@@ -14,7 +14,7 @@
 #include "support/test_scenes.h"
 #include "thicket/accel/registry.h"
 
-namespace thicket::testing {
+namespace thicket::testing::agreement_rule_test {
 namespace {
 
 /// A correct structure whose closest-hit answers pass through `damage`.
@@ -146,4 +146,4 @@ TEST(SahExemption, OnlyTheNamedKeyExplainsAMissingSahCost) {
 }
 
 }  // namespace
-}  // namespace thicket::testing
+}  // namespace thicket::testing::agreement_rule_test

@@ -26,6 +26,8 @@
 #include "thicket/core/error.h"
 #include "thicket/util/npy.h"
 
+namespace bench_test {
+
 namespace fs = std::filesystem;
 using namespace thicket;
 
@@ -656,3 +658,5 @@ TEST(BenchTiming, MedianMinMax) {
 }
 
 }  // namespace
+
+}  // namespace bench_test

@@ -9,7 +9,7 @@
 #include "thicket/core/error.h"
 #include "thicket/prims/bezier.h"
 
-namespace thicket {
+namespace thicket::bezier_test {
 namespace {
 
 using testing::DV;
@@ -289,4 +289,4 @@ TEST(Bezier, EvaluationMatchesReference) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::bezier_test

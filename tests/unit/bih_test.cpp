@@ -13,7 +13,7 @@
 #include "thicket/core/error.h"
 #include "thicket/prims/triangles.h"
 
-namespace thicket {
+namespace thicket::bih_test {
 namespace {
 
 Scene soup() { return testing::nasty_scenes().back(); }
@@ -258,4 +258,4 @@ TEST(BihSpec, OptionsAreChecked) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::bih_test

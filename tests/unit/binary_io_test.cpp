@@ -9,7 +9,7 @@
 #include "thicket/core/error.h"
 #include "thicket/util/binary_io.h"
 
-namespace thicket {
+namespace thicket::binary_io_test {
 namespace {
 
 std::string payload_of(uint64_t count, const std::vector<uint32_t>& values) {
@@ -57,4 +57,4 @@ TEST(PayloadReader, RefusesCountsAboveTheBoundOrBeyondTheBytesLeft) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::binary_io_test

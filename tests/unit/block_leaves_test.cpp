@@ -15,7 +15,7 @@
 #include "thicket/bvh/build.h"
 #include "thicket/bvh8/bvh8.h"
 
-namespace thicket {
+namespace thicket::block_leaves_test {
 namespace {
 
 /// Random small triangles' bounds and centroids, some sharing a centroid.
@@ -126,4 +126,4 @@ TEST(BlockLeaves, Bvh8BlocksAreAtLeastNinetyPercentFullOnEverySharedScene) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::block_leaves_test

@@ -14,7 +14,7 @@
 #include "thicket/core/error.h"
 #include "thicket/prims/triangles.h"
 
-namespace thicket {
+namespace thicket::bsp_test {
 namespace {
 
 using Polygon = std::vector<std::array<double, 3>>;
@@ -512,4 +512,4 @@ TEST(BspIo, RoundTripAndCorruptPayloadsAreRefused) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::bsp_test

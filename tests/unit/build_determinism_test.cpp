@@ -17,6 +17,8 @@
 #include "thicket/accel/registry.h"
 #include "thicket/bvh/build.h"
 
+namespace build_determinism_test {
+
 using namespace thicket;
 
 namespace {
@@ -138,3 +140,5 @@ TEST(BuildDeterminism, EverySavedStructureAndVariantOnASceneWithDegenerates) {
     EXPECT_GE(structures, 8u);  // bvh, bvh8, grid, grid2, octree, bsp, kdtree, bih, obb at least
     EXPECT_GE(specs, 50u);      // with their conformance variants
 }
+
+}  // namespace build_determinism_test

@@ -11,7 +11,7 @@
 #include "thicket/bvh8/isa.h"
 #include "thicket/scene/scene.h"
 
-namespace thicket {
+namespace thicket::bvh8_all_hits_test {
 namespace {
 
 /// `layers` unit squares (two triangles each) stacked along z at z = 0, 1, ..., each split along
@@ -122,4 +122,4 @@ TEST(Bvh8AllHits, TrianglesCutBySpatialSplitsCountOnce) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::bvh8_all_hits_test

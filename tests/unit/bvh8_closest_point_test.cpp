@@ -13,7 +13,7 @@
 #include "thicket/bvh8/isa.h"
 #include "thicket/core/error.h"
 
-namespace thicket {
+namespace thicket::bvh8_closest_point_test {
 namespace {
 
 /// A grid of quads on the plane z = 0 (every interior vertex shared by 6 triangles), a few
@@ -126,4 +126,4 @@ TEST(Bvh8ClosestPoint, EmptySceneFindsNothingAndShapesAreRefused) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::bvh8_closest_point_test

@@ -15,7 +15,7 @@
 #include "thicket/bvh8/compress.h"
 #include "thicket/core/error.h"
 
-namespace thicket {
+namespace thicket::bvh8_compress_test {
 namespace {
 
 /// A node of `lanes` valid boxes of extents from size * 1e-6 to size around `centre`.
@@ -180,4 +180,4 @@ TEST(Bvh8Compress, BuiltTreeDecodesAroundTheFullTreeAndSavesEnclosingBoxes) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::bvh8_compress_test

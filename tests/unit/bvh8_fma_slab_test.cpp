@@ -13,7 +13,7 @@
 #include "thicket/bvh8/isa.h"
 #include "thicket/core/ray_box.h"
 
-namespace thicket {
+namespace thicket::bvh8_fma_slab_test {
 namespace {
 
 using bvh8::Isa;
@@ -205,4 +205,4 @@ TEST(Bvh8FmaSlab, PlaneBoundsCoverEveryValidLaneAndSkipTheEmptyOnes) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::bvh8_fma_slab_test

@@ -12,7 +12,7 @@
 #include "thicket/core/ray_box.h"
 #include "thicket/core/triangle.h"
 
-namespace thicket {
+namespace thicket::bvh8_kernels_test {
 namespace {
 
 using bvh8::Isa;
@@ -145,4 +145,4 @@ TEST(Bvh8Kernels, AZeroLaneIsNeverHit) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::bvh8_kernels_test

@@ -16,7 +16,7 @@
 #include "thicket/render/camera.h"
 #include "thicket/scene/scene.h"
 
-namespace thicket {
+namespace thicket::bvh8_packet_test {
 namespace {
 
 /// A camera's rays for a width x height image, 4x4 tiles of pixels one after the other (as
@@ -169,4 +169,4 @@ TEST(AccelBatch, SpansOfDifferentSizesAreAnError) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::bvh8_packet_test

@@ -14,7 +14,7 @@
 #include "thicket/core/error.h"
 #include "thicket/scene/loaders.h"
 
-namespace thicket {
+namespace thicket::bvh8_structure_test {
 namespace {
 
 Scene soup() { return testing::nasty_scenes().back(); }
@@ -291,4 +291,4 @@ TEST(Bvh8Query, EveryIsaAnswersBitwiseLikeTheScalarKernels) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::bvh8_structure_test

@@ -20,7 +20,7 @@
 #include "thicket/bvh8/isa.h"
 #include "thicket/scene/scene.h"
 
-namespace thicket {
+namespace thicket::bvh8_traversal_record_test {
 namespace {
 
 using Kind = TraversalStep::Kind;
@@ -283,4 +283,4 @@ TEST(Bvh8TraversalRecord, EveryNodeIsDrawnOnceWithinItsParent) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::bvh8_traversal_record_test

@@ -9,7 +9,7 @@
 #include "thicket/bvh/bvh.h"
 #include "thicket/prims/triangles.h"
 
-namespace thicket {
+namespace thicket::bvh_parallel_build_test {
 namespace {
 
 /// Big enough that several levels are top nodes (kParallelNodeSize) split by all threads:
@@ -108,4 +108,4 @@ TEST(BvhParallelBuild, ThreadsReachTheBuilderThroughBuildAccelAndTheBenchSeesIt)
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::bvh_parallel_build_test

@@ -11,7 +11,7 @@
 #include "thicket/bvh/reinsertion.h"
 #include "thicket/prims/triangles.h"
 
-namespace thicket {
+namespace thicket::bvh_reinsertion_test {
 namespace {
 
 Scene clustered(int triangles) {
@@ -97,4 +97,4 @@ TEST(BvhReinsertion, TheSameTreeOnAnyNumberOfThreadsAndAllAnswersRight) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::bvh_reinsertion_test

@@ -11,7 +11,7 @@
 #include "thicket/core/error.h"
 #include "thicket/prims/triangles.h"
 
-namespace thicket {
+namespace thicket::bvh_test {
 namespace {
 
 Scene soup() { return testing::nasty_scenes().back(); }
@@ -216,4 +216,4 @@ TEST(BvhStats, ReportsTheFiguresTheIssueAsksFor) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::bvh_test

@@ -7,7 +7,7 @@
 #include "thicket/prims/primitive_set.h"
 #include "thicket/prims/triangles.h"
 
-namespace thicket {
+namespace thicket::clip_test {
 namespace {
 
 bool encloses(const Aabb& outer, Vec3 p) { return outer.contains(p); }
@@ -72,4 +72,4 @@ TEST(ClipTriangle, ClippedBoundsHookFallsBackForSetsWithoutClip) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::clip_test

@@ -18,7 +18,7 @@
 
 #include "support/independent_math.h"
 
-namespace thicket {
+namespace thicket::closed_form_scenes_test {
 namespace {
 
 
@@ -258,4 +258,4 @@ void expect_shadow_pixel_means(const ShadowScene& s, const TraceResult& r) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::closed_form_scenes_test

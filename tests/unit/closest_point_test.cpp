@@ -8,7 +8,7 @@
 #include "thicket/core/closest_point.h"
 #include "thicket/scene/scene.h"
 
-namespace thicket {
+namespace thicket::closest_point_test {
 namespace {
 
 const Vec3 A{0, 0, 0}, B{2, 0, 0}, C{0, 2, 0};
@@ -107,4 +107,4 @@ TEST(ClosestPoint, FarPointsGetBruteForcesPrimitiveFromEveryStructure) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::closest_point_test

@@ -21,6 +21,8 @@
 #include "thicket/prims/teapot_patches.h"
 #include "thicket/scene/scene.h"
 
+namespace compare_test {
+
 using namespace thicket;
 using thicket::test::attribute_values;
 using thicket::test::xml_wellformedness_error;
@@ -452,3 +454,5 @@ TEST(CompareReport, TablesJsonAndChartsShowEveryRow) {
     EXPECT_EQ(xml_wellformedness_error(speed), "");
     EXPECT_EQ(attribute_values(speed, "rect", "data-series").size(), 8u) << "2 sets x 2 thread counts x 2 rows";
 }
+
+}  // namespace compare_test

@@ -25,7 +25,7 @@
 
 #include "support/independent_math.h"
 
-namespace thicket {
+namespace thicket::cornell_independent_test {
 namespace {
 
 
@@ -292,4 +292,4 @@ TEST(CornellIndependent, RendererAndCommittedReferenceAgreeWithAnEstimatorSharin
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::cornell_independent_test

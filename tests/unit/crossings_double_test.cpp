@@ -12,7 +12,7 @@
 #include "thicket/core/error.h"
 #include "thicket/scene/scene.h"
 
-namespace thicket::testing {
+namespace thicket::testing::crossings_double_test {
 namespace {
 
 constexpr double kO = 1e7;
@@ -91,4 +91,4 @@ TEST(CrossingsDouble, FloatStructuresRefuseNamingTheOption) {
 }
 
 }  // namespace
-}  // namespace thicket::testing
+}  // namespace thicket::testing::crossings_double_test

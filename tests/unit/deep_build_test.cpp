@@ -12,7 +12,7 @@
 
 #include "thicket/accel/registry.h"
 
-namespace thicket {
+namespace thicket::deep_build_test {
 namespace {
 
 /// Runs f on a thread whose stack is a painted buffer and returns how many bytes of it were
@@ -120,4 +120,4 @@ TEST(DeepBuild, ADeepTreeTakesNoMoreCStackThanABalancedOne) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::deep_build_test

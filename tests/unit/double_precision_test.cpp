@@ -11,7 +11,7 @@
 #include "thicket/core/error.h"
 #include "thicket/scene/scene.h"
 
-namespace thicket::testing {
+namespace thicket::testing::double_precision_test {
 namespace {
 
 constexpr const char* kAsciiDoubleHeader =
@@ -123,4 +123,4 @@ TEST(DoubleSpec, FloatStructuresRefuseDoubleBatches) {
 }
 
 }  // namespace
-}  // namespace thicket::testing
+}  // namespace thicket::testing::double_precision_test

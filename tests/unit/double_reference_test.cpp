@@ -10,7 +10,7 @@
 #include "thicket/accel/registry.h"
 #include "thicket/scene/scene.h"
 
-namespace thicket::testing {
+namespace thicket::testing::double_reference_test {
 namespace {
 
 TEST(DoubleReference, ExplainsBruteForceAndFlagsDroppedHits) {
@@ -34,4 +34,4 @@ TEST(DoubleReference, ExplainsBruteForceAndFlagsDroppedHits) {
 }
 
 }  // namespace
-}  // namespace thicket::testing
+}  // namespace thicket::testing::double_reference_test

@@ -17,7 +17,7 @@
 #include "thicket/scene/material_ranges.h"
 #include "thicket/scene/scene.h"
 
-namespace thicket {
+namespace thicket::emitter_bound_test {
 namespace {
 
 /// A floor quad (y = 0, facing up) and a lamp quad above it (y = 2, facing down).
@@ -202,4 +202,4 @@ TEST(AutomaticLight, SceneWithALightIsLeftAlone) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::emitter_bound_test

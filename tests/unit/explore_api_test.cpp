@@ -11,7 +11,7 @@
 #include "explore_api.h"
 #include "thicket/accel/registry.h"
 
-namespace thicket {
+namespace thicket::explore_api_test {
 namespace {
 
 using nlohmann::json;
@@ -211,4 +211,4 @@ TEST_F(ExploreApi, RefusalsNameWhatIsWrong) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::explore_api_test

@@ -15,7 +15,7 @@
 #include "explore_api.h"
 #include "thicket/accel/registry.h"
 
-namespace thicket {
+namespace thicket::explore_draw_test {
 namespace {
 
 using nlohmann::json;
@@ -451,4 +451,4 @@ TEST(ExploreDraw, BruteForceIsRefusedWithWhatDraws) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::explore_draw_test

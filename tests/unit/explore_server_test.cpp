@@ -14,7 +14,7 @@
 #include "explore_server.h"
 #include "thicket/accel/registry.h"
 
-namespace thicket {
+namespace thicket::explore_server_test {
 namespace {
 
 Scene tiny_scene() {
@@ -159,4 +159,4 @@ TEST(ExploreServer, StopBeforeRunReturnsAtOnce) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::explore_server_test

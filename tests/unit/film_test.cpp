@@ -12,7 +12,7 @@
 #include "thicket/core/error.h"
 #include "thicket/render/film.h"
 
-namespace thicket {
+namespace thicket::film_test {
 namespace {
 
 TEST(Film, ExrHoldsTheScaledRadianceBitForBit) {
@@ -96,4 +96,4 @@ TEST(Film, ExrRefusesAnExposureThatOverflows) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::film_test

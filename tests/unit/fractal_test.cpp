@@ -14,7 +14,7 @@
 #include "thicket/core/ray_box.h"
 #include "thicket/prims/fractal.h"
 
-namespace thicket {
+namespace thicket::fractal_test {
 namespace {
 
 using D3 = std::array<double, 3>;
@@ -487,4 +487,4 @@ TEST(FractalKernel, DegenerateRaysMiss) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::fractal_test

@@ -15,7 +15,7 @@
 #include "thicket/scene/loaders.h"
 #include "thicket/scene/scene.h"
 
-namespace thicket {
+namespace thicket::gltf_instances_test {
 namespace {
 
 using loader_test::TempDir;
@@ -141,4 +141,4 @@ TEST(GltfInstances, ASingularNodeIsFlattenedInstead) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::gltf_instances_test

@@ -18,7 +18,7 @@
 #include "thicket/grid/grid2.h"
 #include "thicket/prims/triangles.h"
 
-namespace thicket {
+namespace thicket::grid_test {
 namespace {
 
 void add_triangle(TriangleMesh& m, Vec3 a, Vec3 b, Vec3 c) {
@@ -457,4 +457,4 @@ TEST(GridTraversal, HitBeyondTheCurrentCellDoesNotEndTheWalk) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::grid_test

@@ -8,6 +8,8 @@
 
 #include "thicket/core/huge_pages.h"
 
+namespace huge_pages_test {
+
 using namespace thicket;
 
 TEST(HugeMappings, AreAlignedWholePagesAndReusedBySize) {
@@ -33,3 +35,5 @@ TEST(HugeMappings, AreAlignedWholePagesAndReusedBySize) {
     EXPECT_EQ(a.start, nullptr);
 #endif
 }
+
+}  // namespace huge_pages_test

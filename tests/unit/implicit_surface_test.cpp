@@ -10,7 +10,7 @@
 #include "thicket/core/error.h"
 #include "thicket/prims/implicit.h"
 
-namespace thicket {
+namespace thicket::implicit_surface_test {
 namespace {
 
 using namespace implicit_reference;
@@ -282,4 +282,4 @@ TEST(ImplicitKernel, WorkPerRayIsBoundedByStepsTimesBlobs) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::implicit_surface_test

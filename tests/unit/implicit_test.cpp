@@ -12,7 +12,7 @@
 #include "thicket/core/ray_box.h"
 #include "thicket/prims/implicit.h"
 
-namespace thicket {
+namespace thicket::implicit_test {
 namespace {
 
 using namespace implicit_reference;
@@ -375,4 +375,4 @@ TEST(ImplicitKernel, CenterAndScaleGiveTheSameT) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::implicit_test

@@ -11,7 +11,7 @@
 
 #include "thicket/prims/interval.h"
 
-namespace thicket {
+namespace thicket::interval_test {
 namespace {
 
 #if defined(__SIZEOF_FLOAT128__)
@@ -198,4 +198,4 @@ TEST(Interval, ContainsZeroAndIntersection) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::interval_test

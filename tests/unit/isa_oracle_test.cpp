@@ -17,6 +17,8 @@
 #include "thicket/render/camera.h"
 #include "thicket/scene/scene.h"
 
+namespace isa_oracle_test {
+
 using namespace thicket;
 
 namespace {
@@ -133,3 +135,5 @@ TEST(IsaOracle, ThicketIsaCapsTheChoiceAndNothingElse) {
     const IsaCap none("");
     EXPECT_EQ(value_of(*build_accel("bvh8", scene), "isa"), bvh8::isa_name(bvh8::cpu_best_isa()));
 }
+
+}  // namespace isa_oracle_test

@@ -17,7 +17,7 @@
 #include "thicket/scene/loaders.h"
 #include "thicket/scene/scene.h"
 
-namespace thicket {
+namespace thicket::json_kernels_test {
 namespace {
 
 class Dir : public testing::TempDir {
@@ -242,4 +242,4 @@ TEST(JsonKernels, BadValuesNameTheShapeAndField) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::json_kernels_test

@@ -16,7 +16,7 @@
 #include "thicket/scene/loaders.h"
 #include "thicket/scene/scene.h"
 
-namespace thicket {
+namespace thicket::json_scene_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -276,4 +276,4 @@ TEST(JsonScene, ManySpheresLoadInLinearWork) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::json_scene_test

@@ -18,7 +18,7 @@
 #include "thicket/kdtree/kdtree.h"
 #include "thicket/prims/triangles.h"
 
-namespace thicket {
+namespace thicket::kdtree_test {
 namespace {
 
 using Tris = Triangles<>;
@@ -382,5 +382,5 @@ TEST(KdSave, RoundTripAndBrokenPayloadsAreRefused) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::kdtree_test
 

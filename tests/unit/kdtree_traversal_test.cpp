@@ -19,7 +19,7 @@
 #include "thicket/kdtree/kdtree.h"
 #include "thicket/prims/triangles.h"
 
-namespace thicket {
+namespace thicket::kdtree_traversal_test {
 namespace {
 
 using Tris = Triangles<>;
@@ -362,4 +362,4 @@ TEST(KdTraversal, MailboxingTestsEachPrimitiveOncePerQuery) {
 
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::kdtree_traversal_test

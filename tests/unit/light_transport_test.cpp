@@ -18,7 +18,7 @@
 
 #include "support/independent_math.h"
 
-namespace thicket {
+namespace thicket::light_transport_test {
 namespace {
 
 
@@ -462,4 +462,4 @@ TEST(LightTransportDirect, WhittedRendersAPointLightOverALambertianPlaneExactly)
 TEST(LightTransportDirect, WhittedRendersASphereLightOverALambertianPlaneExactly) { expect_whitted_exact(SphereOverPlane{}); }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::light_transport_test

@@ -15,7 +15,7 @@
 #include "thicket/scene/loaders.h"
 #include "thicket/scene/scene.h"
 
-namespace thicket {
+namespace thicket::loader_gltf_test {
 namespace {
 
 using namespace loader_test;
@@ -300,4 +300,4 @@ TEST(LoaderGltf, ManyNodesSharingAMeshLoadInLinearWork) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::loader_gltf_test

@@ -13,7 +13,7 @@
 #include "thicket/scene/loaders.h"
 #include "thicket/scene/scene.h"
 
-namespace thicket {
+namespace thicket::loader_obj_test {
 namespace {
 
 using namespace loader_test;
@@ -181,4 +181,4 @@ TEST(LoaderObj, AMaterialLibraryThatIsADeviceIsRefused) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::loader_obj_test

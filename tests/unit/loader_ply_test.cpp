@@ -14,7 +14,7 @@
 #include "thicket/scene/loaders.h"
 #include "thicket/scene/scene.h"
 
-namespace thicket {
+namespace thicket::loader_ply_test {
 namespace {
 
 using namespace loader_test;
@@ -227,4 +227,4 @@ TEST(LoaderPly, RandomCorruptionNeverCrashes) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::loader_ply_test

@@ -14,7 +14,7 @@
 #include "thicket/scene/loaders.h"
 #include "thicket/scene/scene.h"
 
-namespace thicket {
+namespace thicket::loader_scene_test {
 namespace {
 
 using namespace loader_test;
@@ -135,4 +135,4 @@ TEST(LoaderShared, CornellObjAndPlyMatchBuiltin) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::loader_scene_test

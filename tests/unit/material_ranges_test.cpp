@@ -18,7 +18,7 @@
 #include "thicket/scene/material_ranges.h"
 #include "thicket/scene/scene.h"
 
-namespace thicket {
+namespace thicket::material_ranges_test {
 namespace {
 
 std::string error_of(const std::function<void()>& f) {
@@ -279,4 +279,4 @@ TEST(MaterialRanges, JsonMeshShapeCarriesTheMtlError) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::material_ranges_test

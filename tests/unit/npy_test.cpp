@@ -14,11 +14,12 @@
 #include "thicket/core/error.h"
 #include "thicket/util/npy.h"
 
+namespace npy_test {
+
 namespace fs = std::filesystem;
 using namespace thicket;
 
-namespace {
-
+// Outside the anonymous namespace: the TEST_F classes derive from it (-Wsubobject-linkage in unity builds).
 class NpyTest : public ::testing::Test {
 protected:
     void SetUp() override {
@@ -72,6 +73,8 @@ protected:
 
     fs::path dir_;
 };
+
+namespace {
 
 std::vector<float> ramp(size_t n) {
     std::vector<float> v(n);
@@ -249,3 +252,5 @@ TEST_F(NpyTest, FailedWriteNamesThePathAndLeavesNothing) {
     for (const auto& e : fs::directory_iterator(dir_)) files += e.is_regular_file();
     EXPECT_EQ(files, 1u) << "temporary files left behind";
 }
+
+}  // namespace npy_test

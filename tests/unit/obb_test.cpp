@@ -11,7 +11,7 @@
 #include "thicket/obb/obb.h"
 #include "thicket/prims/triangles.h"
 
-namespace thicket {
+namespace thicket::obb_test {
 namespace {
 
 const Scene& scene_named(const std::string& name) {
@@ -96,4 +96,4 @@ TEST(Obb, CorruptedPayloadIsRefused) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::obb_test

@@ -14,7 +14,7 @@
 #include "thicket/octree/octree.h"
 #include "thicket/prims/triangles.h"
 
-namespace thicket {
+namespace thicket::octree_test {
 namespace {
 
 Scene soup() { return testing::nasty_scenes().back(); }
@@ -322,4 +322,4 @@ TEST(OctreeSpec, EmptySceneHasNoNodesAndMissesEverything) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::octree_test

@@ -10,7 +10,7 @@
 #include "thicket/accel/registry.h"
 #include "thicket/core/error.h"
 
-namespace thicket {
+namespace thicket::option_table_test {
 namespace {
 
 /// The message of the Error `f` throws, or "" when it throws none.
@@ -113,4 +113,4 @@ TEST(OptionTable, ChoiceOptionTakesItsListAndDefaultFromTheTable) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::option_table_test

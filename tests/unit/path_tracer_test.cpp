@@ -19,7 +19,7 @@
 
 #include "support/independent_math.h"
 
-namespace thicket {
+namespace thicket::path_tracer_test {
 namespace {
 
 using testing::kWorkScale;
@@ -367,4 +367,4 @@ TEST(PathTracer, CornellBoxMatchesTheConvergedReference) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::path_tracer_test

@@ -10,7 +10,7 @@
 
 #include "thicket/bvh/ploc.h"
 
-namespace thicket {
+namespace thicket::ploc_test {
 namespace {
 
 /// Boxes of `count` small random triangles in clusters, every eighth collapsed to a point and a
@@ -143,4 +143,4 @@ TEST(Ploc, AChainOfWideningGapsIsPairedInOrderNotOnePairARound) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::ploc_test

@@ -15,6 +15,8 @@
 #include "thicket/accel/registry.h"
 #include "thicket/core/error.h"
 
+namespace point_queries_test {
+
 using namespace thicket;
 
 namespace {
@@ -257,3 +259,5 @@ TEST(RayRows, EveryQueryAnswersRowsAsTheStructureAnswersRays) {
     std::vector<Hit> short_out(n - 1);
     EXPECT_THROW(closest_hits(*accel, rows, short_out), Error);
 }
+
+}  // namespace point_queries_test

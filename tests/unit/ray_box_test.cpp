@@ -5,7 +5,7 @@
 
 #include "thicket/core/ray_box.h"
 
-namespace thicket {
+namespace thicket::ray_box_test {
 namespace {
 
 const Aabb kUnit{{0, 0, 0}, {1, 1, 1}};
@@ -77,4 +77,4 @@ TEST(RayBox, ConservativeForRaysThroughBoxCorners) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::ray_box_test

@@ -6,7 +6,7 @@
 
 #include "thicket/core/ray.h"
 
-namespace thicket {
+namespace thicket::ray_test {
 namespace {
 
 TEST(MakeRay, AcceptsAMeaningfulRayAsGiven) {
@@ -37,4 +37,4 @@ TEST(MakeRay, RefusesRaysWithoutMeaningAndLeavesTheRayAlone) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::ray_test

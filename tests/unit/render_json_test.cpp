@@ -10,7 +10,7 @@
 #include "thicket/scene/loaders.h"
 #include "thicket/scene/scene.h"
 
-namespace thicket {
+namespace thicket::render_json_test {
 namespace {
 
 TEST(RenderJson, MaterialsLightsAndCameraReachTheRenderScene) {
@@ -82,4 +82,4 @@ TEST(RenderJson, ErrorsNameTheKey) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::render_json_test

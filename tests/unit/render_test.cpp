@@ -19,6 +19,8 @@
 #include "thicket/util/parallel.h"
 #include "thicket/util/progress.h"
 
+namespace render_test {
+
 
 namespace fs = std::filesystem;
 using namespace thicket;
@@ -414,3 +416,5 @@ TEST(Progress, CountsAndFinishesQuietly) {
     EXPECT_EQ(format_duration(2.5), "2.5 s");
     EXPECT_EQ(format_duration(125.0), "2 min 05 s");
 }
+
+}  // namespace render_test

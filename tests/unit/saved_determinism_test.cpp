@@ -13,6 +13,8 @@
 #include "saved_bytes.h"
 #include "thicket/accel/registry.h"
 
+namespace saved_determinism_test {
+
 using namespace thicket;
 
 namespace {
@@ -64,3 +66,5 @@ TEST(SavedDeterminism, EverySavedVariantIsTheSameBytesOnAnyThreadsAndStack) {
     }
     EXPECT_GE(checked, 50u);  // every structure but brute force and tetra, with their variants
 }
+
+}  // namespace saved_determinism_test

@@ -22,7 +22,7 @@
 #include "thicket/prims/triangles.h"
 #include "thicket/core/error.h"
 
-namespace thicket {
+namespace thicket::saved_payload_test {
 namespace {
 
 using testing::error_of;
@@ -284,4 +284,4 @@ TEST(SavedStructure, ABspWithAMovedPlaneIsRefused) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::saved_payload_test

@@ -21,7 +21,7 @@
 #include "thicket/prims/triangles.h"
 #include "thicket/tetra/tetra.h"
 
-namespace thicket {
+namespace thicket::saved_proofs_test {
 namespace {
 
 using testing::error_of;
@@ -317,4 +317,4 @@ TEST(SavedProofs, TheProofsNeverRefuseWhatTheBuilderWrote) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::saved_proofs_test

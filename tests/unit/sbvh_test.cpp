@@ -17,7 +17,7 @@
 #include "thicket/core/error.h"
 #include "thicket/prims/triangles.h"
 
-namespace thicket {
+namespace thicket::sbvh_test {
 namespace {
 
 /// `count` long thin triangles along the cube's diagonals (length ~8 in a box of 10, width 0.02):
@@ -218,4 +218,4 @@ TEST(Sbvh, TheLoadValidatorRefusesATreeThatLosesAPartOfATriangle) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::sbvh_test

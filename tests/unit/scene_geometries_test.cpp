@@ -9,6 +9,8 @@
 #include "thicket/scene/scene.h"
 #include "support/temp_dir.h"
 
+namespace scene_geometries_test {
+
 using namespace thicket;
 
 namespace {
@@ -98,3 +100,5 @@ TEST(SceneGeometries, AHitsPrimitiveNamesTheGeometryItIsOn) {
         EXPECT_EQ(s.geometry_of(from_below.prim), 0u);
     }
 }
+
+}  // namespace scene_geometries_test

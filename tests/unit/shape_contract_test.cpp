@@ -16,7 +16,7 @@
 #include "thicket/prims/shapes.h"
 #include "thicket/prims/teapot_patches.h"
 
-namespace thicket {
+namespace thicket::shape_contract_test {
 namespace {
 
 ImplicitOptions at(Vec3 center, float scale, ImplicitMethod method = ImplicitMethod::interval) {
@@ -133,4 +133,4 @@ TEST(ShapeContract, NamesAreTheJsonTypes) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::shape_contract_test

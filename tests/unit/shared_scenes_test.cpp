@@ -5,7 +5,7 @@
 #include "support/test_scenes.h"
 #include "thicket/scene/scene.h"
 
-namespace thicket {
+namespace thicket::shared_scenes_test {
 namespace {
 
 TEST(SharedScenes, ArePresentAndLoad) {
@@ -18,4 +18,4 @@ TEST(SharedScenes, ArePresentAndLoad) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::shared_scenes_test

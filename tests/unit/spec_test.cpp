@@ -3,7 +3,7 @@
 #include "thicket/accel/registry.h"
 #include "thicket/core/error.h"
 
-namespace thicket {
+namespace thicket::spec_test {
 namespace {
 
 std::string error_of(const std::string& spec) {
@@ -92,4 +92,4 @@ TEST(Spec, EveryVariantParsesAndIsListed) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::spec_test

@@ -9,7 +9,7 @@
 #include "support/test_scenes.h"
 #include "thicket/prims/sphere.h"
 
-namespace thicket {
+namespace thicket::sphere_test {
 namespace {
 
 using Quad = __float128;
@@ -175,4 +175,4 @@ TEST(Sphere, BoundsEncloseTheSphereInFloat) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::sphere_test

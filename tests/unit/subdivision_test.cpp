@@ -14,7 +14,7 @@
 #include "thicket/prims/subdivision.h"
 #include "thicket/scene/loaders.h"
 
-namespace thicket {
+namespace thicket::subdivision_test {
 namespace {
 
 /// A torus of n x m quads (every vertex valence 4: the surface is bicubic B-spline patches).
@@ -389,4 +389,4 @@ TEST(Subdivision, LoadsAnObjCage) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::subdivision_test

@@ -17,7 +17,7 @@
 #include "thicket/prims/teapot_patches.h"
 #include "thicket/prims/triangles.h"
 
-namespace thicket {
+namespace thicket::teapot_test {
 namespace {
 
 using testing::dv;
@@ -322,4 +322,4 @@ TEST(Teapot, HitMaskMatchesAFineTessellationAndHitsLieOnTheSurface) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::teapot_test

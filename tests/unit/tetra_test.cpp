@@ -11,7 +11,7 @@
 #include "thicket/prims/triangles.h"
 #include "thicket/tetra/tetra.h"
 
-namespace thicket {
+namespace thicket::tetra_test {
 namespace {
 
 const Scene& scene_named(const std::string& name) {
@@ -118,4 +118,4 @@ TEST(Tetra, CorruptedPayloadIsRefused) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::tetra_test

@@ -17,7 +17,7 @@
 #include "thicket/core/ray_box.h"
 #include "thicket/prims/torus.h"
 
-namespace thicket {
+namespace thicket::torus_test {
 namespace {
 
 using testing::torus_distance;
@@ -275,4 +275,4 @@ TEST(Torus, BoundsAreTightAndEnclosing) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::torus_test

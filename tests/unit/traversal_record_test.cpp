@@ -17,7 +17,7 @@
 #include "thicket/grid/grid.h"
 #include "thicket/prims/triangles.h"
 
-namespace thicket {
+namespace thicket::traversal_record_test {
 namespace {
 
 /// 300 random small triangles in the unit cube (a soup with many overlapping boxes).
@@ -234,4 +234,4 @@ TEST(TraversalRecord, StructuresThatRecordNoStepsGiveTheTotals) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::traversal_record_test

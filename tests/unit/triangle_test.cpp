@@ -4,7 +4,7 @@
 
 #include "thicket/core/triangle.h"
 
-namespace thicket {
+namespace thicket::triangle_test {
 namespace {
 
 template <class F>
@@ -108,4 +108,4 @@ TEST(Triangle, BothTestsAgreeAwayFromEdges) {
 }
 
 }  // namespace
-}  // namespace thicket
+}  // namespace thicket::triangle_test

@@ -9,7 +9,7 @@
 #include "support/variant_cover.h"
 #include "thicket/accel/registry.h"
 
-namespace thicket::testing {
+namespace thicket::testing::variant_cover_test {
 namespace {
 
 std::set<std::string> values_of(const std::vector<std::string>& variants) {
@@ -62,4 +62,4 @@ TEST(VariantCover, EveryRegisteredOptionValueStaysCovered) {
 }
 
 }  // namespace
-}  // namespace thicket::testing
+}  // namespace thicket::testing::variant_cover_test
