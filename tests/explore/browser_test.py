@@ -347,11 +347,13 @@ def main():
     os.makedirs(outdir, exist_ok=True)
     start = time.time()
     server, url = start_server(thicket, scene, STRUCTURES)
-    # swiftshader stands in for a GPU, so WebGL works on a machine without one.
-    browser = cdp.Browser(chromium, os.path.join(outdir, "profile"),
-                          ["--no-sandbox", "--use-gl=angle", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
-                           "--window-size=1000,640", "--hide-scrollbars", "--mute-audio"])
+    browser = None
     try:
+        # swiftshader stands in for a GPU, so WebGL works on a machine without one.
+        browser = cdp.Browser(chromium, os.path.join(outdir, "profile"),
+                              ["--no-sandbox", "--use-gl=angle", "--use-angle=swiftshader",
+                               "--enable-unsafe-swiftshader", "--window-size=1000,640", "--hide-scrollbars",
+                               "--mute-audio"])
         for domain in ("Page", "Runtime", "Log"):
             browser.call(domain + ".enable")
         run(thicket, scene, url, browser, outdir)
@@ -363,7 +365,8 @@ def main():
         print("ok: no console error; %.1f s" % (time.time() - start))
         return 0
     finally:
-        browser.close()
+        if browser:
+            browser.close()
         stop_server(server)
 
 
