@@ -162,6 +162,69 @@ TEST_F(ExploreApi, PartialRecordingIsReportedAsTotalsOnly) {
     EXPECT_EQ(e["prims"], plain.prims);
 }
 
+// The shadow query (explain --any-hit): bvh and grid list its steps, which end at the first
+// primitive that blocks the ray; the answer and the totals are the counting path's.
+TEST_F(ExploreApi, AnyHitIsRecordedStepByStep) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-0.2f, 1.2f);
+    size_t blocked = 0;
+    for (const Accel* a : {bvh_view, grid_view})
+        for (int i = 0; i < 50; ++i) {
+            Ray ray;
+            ray.org = {u(rng), u(rng), -1.0f};
+            ray.dir = normalize(Vec3{u(rng), u(rng), 3.0f} - ray.org);
+            const json e = json::parse(explore::explain_ray(*a, scene, ray, true));
+            RayCounters plain;
+            const bool occluded = a->occluded(ray, plain);
+            ASSERT_EQ(e["query"], "any");
+            ASSERT_EQ(e["occluded"], occluded);
+            ASSERT_TRUE(e["hit"].is_null());
+            ASSERT_TRUE(e["detailed"].get<bool>());
+            EXPECT_EQ(e["nodes"], plain.nodes);
+            EXPECT_EQ(e["prims"], plain.prims);
+            size_t prims = 0;
+            for (const json& s : e["steps"]) prims += s["kind"] == "prim";
+            EXPECT_EQ(prims, plain.prims);
+            if (!occluded) continue;
+            ++blocked;
+            // The last primitive tested is the one that blocks: it alone of those listed is hit.
+            ASSERT_EQ(e["steps"].back()["kind"], "prim");
+            for (size_t k = 0; k < e["steps"].size(); ++k) {
+                const json& s = e["steps"][k];
+                if (s["kind"] != "prim") continue;
+                const uint32_t p = s["id"];
+                Scene one;
+                for (int c = 0; c < 3; ++c) one.mesh.positions.push_back(scene.mesh.vertex(p, c));
+                one.mesh.indices = {0, 1, 2};
+                EXPECT_EQ(build_accel("brute", one)->occluded(ray), k + 1 == e["steps"].size()) << "primitive " << p;
+            }
+        }
+    EXPECT_GT(blocked, 10u);
+    // The closest-hit form says so too.
+    Ray ray;
+    ray.org = {0.5f, 0.5f, -1.0f};
+    ray.dir = {0.0f, 0.0f, 1.0f};
+    EXPECT_EQ(json::parse(explore::explain_ray(*bvh_view, scene, ray))["query"], "closest");
+}
+
+// tetra's walk is recorded: its steps name tetrahedra, each with its four corners.
+TEST_F(ExploreApi, TetraTraceListsTheWalkedTetrahedra) {
+    const std::unique_ptr<Accel> tetra = build_accel("tetra", scene, 1);
+    Ray ray;
+    ray.org = {0.5f, 0.5f, -1.0f};
+    ray.dir = normalize(Vec3{0.01f, 0.02f, 1.0f});
+    const json e = json::parse(explore::explain_ray(*tetra, scene, ray));
+    ASSERT_TRUE(e["detailed"].get<bool>());
+    size_t entered = 0;
+    for (const json& s : e["steps"])
+        if (s["kind"] == "enter") {
+            ++entered;
+            ASSERT_EQ(s["tetrahedron"].size(), 4u);
+            ASSERT_FALSE(s.contains("box"));
+        }
+    EXPECT_GT(entered, 1u);
+}
+
 TEST_F(ExploreApi, RefusalsNameWhatIsWrong) {
     refused("/api/nodes", "{not json", 400, "not JSON");
     refused("/api/nodes", "[1,2]", 400, "JSON object");

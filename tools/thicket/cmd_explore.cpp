@@ -92,6 +92,7 @@ struct ExplainArgs {
     std::string scene;
     AccelChoice accel;
     std::string ray;
+    bool any = false;
     unsigned threads = 0;
 };
 
@@ -142,7 +143,7 @@ int run_explain(const ExplainArgs& args) {
         scene = load_scene_verbose(args.scene);
         accel = make_accel_verbose(args.accel, spec, *scene, args.threads);
     }
-    std::printf("%s\n", explore::explain_ray(*accel, *scene, ray).c_str());
+    std::printf("%s\n", explore::explain_ray(*accel, *scene, ray, args.any).c_str());
     return 0;
 }
 
@@ -176,15 +177,18 @@ Command add_explore_command(CLI::App& app) {
 Command add_explain_command(CLI::App& app) {
     auto args = std::make_shared<ExplainArgs>();
     CLI::App* cmd = app.add_subcommand("explain", "print one ray's traversal through a structure as JSON");
-    cmd->footer("Output (stdout; the scene and build lines go to stderr): {structure, ray, detailed, nodes, prims, "
-                "dropped, hit, steps}. Each step is {kind: enter|cull|prim, id, t}: a node or cell entered at t, a "
-                "node whose box was tested and missed (t null), a node entered earlier and dropped unvisited because a nearer "
-                "hit was found since (skip, t its entry), a primitive tested (t: the closest hit so far). Nodes "
-                "carry their box; triangles their corners. `detailed` is false for structures that report only the "
-                "totals (all but bvh, bvh8 and grid for now). The same path as `thicket explore`'s trace request.");
+    cmd->footer("Output (stdout; the scene and build lines go to stderr): {structure, query, ray, detailed, nodes, "
+                "prims, dropped, hit, steps} (and `occluded` with --any-hit). Each step is {kind: enter|cull|skip|prim, "
+                "id, t}: a node, cell or tetrahedron entered at t, a node whose box was tested and missed (t null), a "
+                "node entered earlier and dropped unvisited because a nearer hit was found since (skip, t its entry), "
+                "a primitive tested (t: the closest hit so far; with --any-hit the ray's tmax). Nodes carry their box, "
+                "tetrahedra their corners, triangles theirs. `detailed` is false for structures that report only the "
+                "totals (all but bvh, bvh8, grid and tetra for now; with --any-hit, all but bvh, grid and tetra). The "
+                "same path as `thicket explore`'s trace request.");
     add_scene_argument(cmd, args->scene);
     add_accel_options(cmd, args->accel);
     cmd->add_option("--ray", args->ray, "the ray: ox,oy,oz,dx,dy,dz[,tmin,tmax]")->required()->type_name("RAY");
+    cmd->add_flag("--any-hit", args->any, "the any-hit (shadow) query: stops at the first hit, says whether the ray is occluded");
     add_threads_option(cmd, args->threads);
     return {cmd, [args] { return run_explain(*args); }};
 }

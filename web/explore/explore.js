@@ -3,7 +3,26 @@
 'use strict';
 
 const $ = (id) => document.getElementById(id);
-const state = { scene: null, stats: null, trace: null, step: -1, timer: null, view: null };
+const state = { scene: null, stats: null, trace: null, step: -1, timer: null, view: null, pending: new Set(),
+  nodesAsked: 0, drawn: null, heat: null, pixel: null };
+
+// What a test (tests/explore/browser_test.py, over the DevTools protocol) reads of the page: the
+// structure and depth drawn with the counts of what the 3D view holds, the heatmap's request and
+// hottest pixels, the traced pixel, its ray and steps; settled() resolves once no request is pending.
+window.thicketExplore = {
+  state: state,
+  settled: async () => {
+    while (state.pending.size) await Promise.allSettled([...state.pending]);
+    return true;
+  },
+};
+/// Keeps `promise` among the pending work until it settles, and returns it.
+function track(promise) {
+  state.pending.add(promise);
+  const done = () => state.pending.delete(promise);
+  promise.then(done, done);
+  return promise;
+}
 
 function status(text) { $('status').textContent = text; }
 // Script errors are kept on the page, where the browser test reads them.
@@ -224,16 +243,22 @@ async function showNodes() {
   const depth = Number($('depth').value);
   $('depth-label').textContent = String(depth);
   const st = state.scene.structures[structure];
+  // A slider moved quickly asks several depths at once: only the last asked is drawn.
+  const asked = ++state.nodesAsked;
+  const r = st.draws_nodes ? await api('/api/nodes', { structure: structure, depth: depth }) : null;
+  if (asked !== state.nodesAsked) return;
   if (three.ok) clearGroup(three.nodes);
   for (const k of ['boxes', 'planes', 'oriented', 'tetrahedra']) document.body.dataset[k] = '0';
+  state.drawn = { structure: structure, depth: depth, drawing: 'none', boxes: 0, planes: 0, oriented: 0, tetrahedra: 0 };
   if (!st.draws_nodes) {
     $('nodes-line').textContent = st.spec + ' does not draw its nodes';
     document.body.dataset.drawing = 'none';
     render();
     return;
   }
-  const r = await api('/api/nodes', { structure: structure, depth: depth });
   $('depth').max = String(r.max_depth);
+  // A structure with fewer levels clamps the slider: draw the depth it now shows.
+  if (Number($('depth').value) !== depth) return showNodes();
   $('nodes-line').textContent = r.drawing + ': ' + r.count + ' at depth ' + depth + ' of ' + r.max_depth +
     (r.truncated ? ' (every ' + r.stride + 'th drawn: ' + r.drawn + ', the limit is ' + r.limit + ')' : '');
   $('depth-means').textContent = 'depth: ' + r.depth_means;
@@ -265,6 +290,8 @@ async function showNodes() {
       body.tetrahedra = lines(o, 6);
     }
   }
+  state.drawn.drawing = r.drawing;
+  for (const k of ['boxes', 'planes', 'oriented', 'tetrahedra']) state.drawn[k] = Number(body[k]);
   render();
 }
 
@@ -300,6 +327,7 @@ async function heatmap() {
   const r = await api('/api/heatmap', body);
   const box = $('heatmaps');
   box.replaceChildren();
+  state.heat = { request: body, hottest: [] };
   r.maps.forEach((m, i) => {
     const fig = document.createElement('figure');
     const c = document.createElement('canvas');
@@ -310,6 +338,7 @@ async function heatmap() {
     const cap = document.createElement('figcaption');
     cap.id = 'heat-caption-' + i;
     cap.dataset.hottest = (hot % r.width) + ',' + Math.floor(hot / r.width);
+    state.heat.hottest.push([hot % r.width, Math.floor(hot / r.width)]);
     cap.textContent = m.structure + ': total ' + m.total + ', max ' + m.max + ' at (' + cap.dataset.hottest + ')';
     fig.append(c, cap);
     box.appendChild(fig);
@@ -327,9 +356,11 @@ async function heatmap() {
 // ---- one ray's traversal -------------------------------------------------------------------------
 async function tracePixel(x, y, size) {
   const structure = Number($('structure').value || 0);
-  const r = await api('/api/trace', { structure: structure, camera: cameraJson(), width: size.width,
+  const camera = cameraJson();
+  const r = await api('/api/trace', { structure: structure, camera: camera, width: size.width,
     height: size.height, x: x, y: y });
   state.trace = r;
+  state.pixel = { x: x, y: y, width: size.width, height: size.height, structure: structure, camera: camera };
   $('trace-line').textContent = r.structure + ', pixel (' + x + ', ' + y + '): ' + r.nodes + ' nodes, ' + r.prims +
     ' primitive tests, ' + (r.hit ? 'hit primitive ' + r.hit.prim + ' at t = ' + r.hit.t.toPrecision(6) : 'no hit') +
     (r.detailed ? '' : ' (this structure reports only the totals)') + (r.dropped ? ', ' + r.dropped + ' steps not listed' : '');
@@ -338,7 +369,7 @@ async function tracePixel(x, y, size) {
   r.steps.forEach((s, i) => {
     const li = document.createElement('li');
     li.className = s.kind;
-    li.textContent = s.kind + ' ' + (s.kind === 'prim' ? 'primitive ' : 'node ') + s.id +
+    li.textContent = s.kind + ' ' + (s.kind === 'prim' ? 'primitive ' : s.tetrahedron ? 'tetrahedron ' : 'node ') + s.id +
       (s.t === null ? '' : ' t=' + s.t.toPrecision(5));
     li.addEventListener('click', () => showStep(i));
     list.appendChild(li);
@@ -352,7 +383,7 @@ function tracePixelAt(e) {
   const size = imageSize();
   const x = Math.min(size.width - 1, Math.floor((e.clientX - rect.left) / rect.width * size.width));
   const y = Math.min(size.height - 1, Math.floor((e.clientY - rect.top) / rect.height * size.height));
-  tracePixel(x, y, size).catch((err) => status(err.message));
+  track(tracePixel(x, y, size)).catch((err) => status(err.message));
 }
 /// Shows steps 0..i: the current node's box (green entered, red culled, grey skipped) or tested triangle, and the ray.
 function showStep(i) {
@@ -374,6 +405,10 @@ function showStep(i) {
     o[2] + d[2] * far])), 3));
   three.trace.add(new THREE.Line(g, new THREE.LineBasicMaterial({ color: 0xffff00 })));
   if (s && s.box) three.trace.add(boxLines([s.box], s.kind === 'enter' ? 0x40ff60 : s.kind === 'skip' ? 0x9090a0 : 0xff4040));
+  // A tetrahedral walk: the tetrahedra entered so far (violet), the current one green.
+  const walked = r.steps.slice(0, state.step).filter((w) => w.tetrahedron).map((w) => ({ corners: w.tetrahedron }));
+  if (walked.length) three.trace.add(tetraLines(walked, 0xb070e0));
+  if (s && s.tetrahedron) three.trace.add(tetraLines([{ corners: s.tetrahedron }], 0x40ff60));
   if (s && s.triangle) {
     const tg = new THREE.BufferGeometry();
     tg.setAttribute('position', new THREE.BufferAttribute(new Float32Array(s.triangle.flat()), 3));
@@ -391,7 +426,7 @@ function play() {
 }
 
 // ---- start -------------------------------------------------------------------------------------
-function report(promise) { return promise.catch((e) => { status(e.message); throw e; }); }
+function report(promise) { return track(promise).catch((e) => { status(e.message); throw e; }); }
 async function main() {
   setupThree();
   setupOrbit();
@@ -401,6 +436,11 @@ async function main() {
   $('depth').addEventListener('input', () => report(showNodes()));
   $('heatmap-button').addEventListener('click', () => report(heatmap()));
   $('overlay-on').addEventListener('change', () => { $('overlay').style.display = $('overlay-on').checked ? '' : 'none'; });
+  // Hiding the structure leaves a ray's walk alone in the view (a tetrahedral mesh hides it otherwise).
+  $('nodes-on').addEventListener('change', () => {
+    if (three.ok) three.nodes.visible = $('nodes-on').checked;
+    render();
+  });
   $('prev').addEventListener('click', () => showStep(state.step - 1));
   $('next').addEventListener('click', () => showStep(state.step + 1));
   $('play').addEventListener('click', play);

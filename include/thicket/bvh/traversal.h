@@ -46,7 +46,10 @@ struct Query {
         for (uint32_t i = node.leftFirst, end = node.leftFirst + node.count; i < end; ++i) {
             counters.prim();
             if constexpr (AnyHit) {
-                if (prims.occludes(bvh.prim_indices[i], ray)) return true;
+                if (prims.occludes(bvh.prim_indices[i], ray)) {
+                    if constexpr (RecordsSteps<C>) counters.record_prim(bvh.prim_indices[i], far());  // the blocker too
+                    return true;
+                }
             } else {
                 prims.intersect(bvh.prim_indices[i], ray, hit);
             }

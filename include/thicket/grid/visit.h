@@ -35,7 +35,10 @@ inline bool visit_cell(const uint32_t* first, const uint32_t* last, const Prims&
             if (!(ref & kSingleCell) && !mailbox.first_visit(id)) continue;
         counters.prim();
         if constexpr (AnyHit) {
-            if (prims.occludes(id, ray)) return true;
+            if (prims.occludes(id, ray)) {
+                if constexpr (RecordsSteps<C>) counters.record_prim(id, ray.tmax);  // the blocker is listed too
+                return true;
+            }
         } else {
             prims.intersect(id, ray, hit);
         }

@@ -48,6 +48,20 @@ TetraInput tetra_input(const Prims& prims) {
     return in;
 }
 
+/// The counting policy the fallback BVH is walked with: counts go to `c`; for a recorder, the
+/// primitives tested are listed under their scene ids, and the BVH's node ids are left out, where
+/// they would read as tetrahedra (the steps name tetrahedra by their index in the mesh).
+template <class C>
+struct FallbackCounters {
+    C& c;
+    const std::vector<uint32_t>& ids;  ///< the fallback primitives: the BVH's indices are positions here
+    void node() { c.node(); }
+    void prim() { c.prim(); }
+    void record_node(uint32_t, float) {}
+    void record_skip(uint32_t, float) {}
+    void record_prim(uint32_t i, float t) { c.record_prim(ids[i], t); }
+};
+
 }  // namespace tetra_detail
 
 template <PrimitiveSet Prims>
@@ -72,12 +86,17 @@ public:
         return b;
     }
 
+    /// The walk tells a recorder each tetrahedron entered and each primitive tested (traversal.h).
+    static constexpr bool kRecordsSteps = true;
+
     template <class C>
     Hit closest(const Ray& ray, C& counters) const {
         Hit hit = miss_for(ray);
-        if (!data_.fallback.empty())
-            hit = closest_hit<bvh_detail::Query>(data_.fallback_bvh, subset_, ray, counters,
+        if (!data_.fallback.empty()) {
+            auto&& fallback = fallback_counters(counters);
+            hit = closest_hit<bvh_detail::Query>(data_.fallback_bvh, subset_, ray, fallback,
                                                  BvhTraversal::OrderedDistance);
+        }
         tetra_detail::walk<false>(
             data_.mesh, prims_.size(), ray, hit, counters, [&](uint32_t p) { return prims_.intersect(p, ray, hit); },
             [&](Mailbox& mailbox) {
@@ -85,6 +104,7 @@ public:
                     if (mailbox.first_visit(p)) {
                         counters.prim();
                         prims_.intersect(p, ray, hit);
+                        if constexpr (RecordsSteps<C>) counters.record_prim(p, hit.t);
                     }
                 return false;
             });
@@ -92,9 +112,11 @@ public:
     }
     template <class C>
     bool any(const Ray& ray, C& counters) const {
-        if (!data_.fallback.empty() &&
-            any_hit<bvh_detail::Query>(data_.fallback_bvh, subset_, ray, counters, BvhTraversal::OrderedDistance))
-            return true;
+        if (!data_.fallback.empty()) {
+            auto&& fallback = fallback_counters(counters);
+            if (any_hit<bvh_detail::Query>(data_.fallback_bvh, subset_, ray, fallback, BvhTraversal::OrderedDistance))
+                return true;
+        }
         const Hit none = miss_for(ray);
         return tetra_detail::walk<true>(
             data_.mesh, prims_.size(), ray, none, counters, [&](uint32_t p) { return prims_.occludes(p, ray); },
@@ -102,7 +124,9 @@ public:
                 for (uint32_t p : meshed_)
                     if (mailbox.first_visit(p)) {
                         counters.prim();
-                        if (prims_.occludes(p, ray)) return true;
+                        const bool found = prims_.occludes(p, ray);
+                        if constexpr (RecordsSteps<C>) counters.record_prim(p, ray.tmax);
+                        if (found) return true;
                     }
                 return false;
             });
@@ -115,6 +139,15 @@ public:
     const TetraData& data() const { return data_; }
 
 private:
+    /// A recorder is wrapped for the fallback BVH (FallbackCounters); other policies pass as they are.
+    template <class C>
+    decltype(auto) fallback_counters(C& counters) const {
+        if constexpr (RecordsSteps<C>)
+            return tetra_detail::FallbackCounters<C>{counters, data_.fallback};
+        else
+            return (counters);
+    }
+
     void init() {
         subset_ = {&prims_, &data_.fallback};
         std::vector<uint8_t> in_fallback(prims_.size(), 0);

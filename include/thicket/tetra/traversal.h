@@ -8,11 +8,17 @@
 /// — every scene triangle at the tetrahedron's four vertices is tested as well: a triangle the
 /// ray hits there has a constrained face at one of those vertices. Each triangle is tested once
 /// per ray (mailbox).
+///
+/// A recording policy (core/traversal_record.h) is told each tetrahedron the walk enters, in
+/// order, with the distance at which the ray enters it (the first: where the ray enters the box),
+/// and each triangle tested; the point-location steps before the walk are counted, not listed:
+/// they do not lie along the ray.
 #include <algorithm>
 #include <cmath>
 
 #include "thicket/core/mailbox.h"
 #include "thicket/core/ray.h"
+#include "thicket/core/traversal_record.h"
 #include "thicket/tetra/walk.h"
 
 namespace thicket::tetra_detail {
@@ -60,7 +66,9 @@ bool walk(const TetraMesh& m, size_t primitives, const Ray& ray, const Hit& hit,
     auto offer = [&](uint32_t prim) {
         if (prim == kNoTet || !mailbox.first_visit(prim)) return false;
         counters.prim();
-        return test(prim);
+        const bool found = test(prim);
+        if constexpr (RecordsSteps<C>) counters.record_prim(prim, AnyHit ? ray.tmax : hit.t);
+        return found;
     };
     auto around = [&](uint32_t tet) {
         const uint32_t* v = &m.tets[size_t(tet) * 4];
@@ -74,6 +82,7 @@ bool walk(const TetraMesh& m, size_t primitives, const Ray& ray, const Hit& hit,
     bool first = true;
     while (true) {
         counters.node();
+        if constexpr (RecordsSteps<C>) counters.record_node(t, float(t_in));
         if (first) {
             first = false;
             if (around(t)) return true;

@@ -40,9 +40,11 @@ struct View {
     Ray pixel_ray(uint32_t x, uint32_t y) const;
 };
 
-/// One ray's traversal through `accel` as JSON text: the ray, the totals, the hit (or null), and
-/// the steps with each node's box (`thicket explain` prints it, the page's trace request returns it).
-std::string explain_ray(const Accel& accel, const Scene& scene, const Ray& ray);
+/// One ray's traversal through `accel` as JSON text: the ray, the query, the totals, the hit (or
+/// null), and the steps with each node's box or tetrahedron (`thicket explain` prints it, the
+/// page's trace request returns it). `any_hit`: the shadow query, which stops at the first hit
+/// and says `occluded` (no hit record: it finds one, not the closest).
+std::string explain_ray(const Accel& accel, const Scene& scene, const Ray& ray, bool any_hit = false);
 
 class Session {
 public:

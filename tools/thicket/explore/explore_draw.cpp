@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 
+#include "explore_as.h"
 #include "thicket/bih/bih.h"
 #include "thicket/bsp/bsp.h"
 #include "thicket/grid/grid.h"
@@ -341,26 +342,6 @@ std::optional<Drawing> draw_nodes(const Accel& accel, uint32_t depth, const char
     });
     if (!draws) return std::nullopt;
     return d;
-}
-
-/// Calls f(structure) when `accel` is Structure<Set>; returns whether it was.
-template <template <PrimitiveSet> class Structure, class Set, class F>
-bool as_over(const Accel& accel, F& f) {
-    const auto* p = dynamic_cast<const Structure<Set>*>(&accel);
-    if (p) f(*p);
-    return p != nullptr;
-}
-
-/// Calls f(structure) when `accel` is Structure<P> for one of the primitive sets the registry
-/// builds over (with_primitives in accel/dispatch.h); returns whether it was. (Structure<Set> is
-/// named only where both are template parameters: clang 14 crashes checking the constraint of
-/// Structure<Triangles<...>> written with a concrete set in a template's body.)
-template <template <PrimitiveSet> class Structure, class F>
-bool as(const Accel& accel, F&& f) {
-    return as_over<Structure, Triangles<TriangleTest::Moller>>(accel, f) ||
-           as_over<Structure, Triangles<TriangleTest::Watertight>>(accel, f) ||
-           as_over<Structure, MixedPrimitives<TriangleTest::Moller>>(accel, f) ||
-           as_over<Structure, MixedPrimitives<TriangleTest::Watertight>>(accel, f);
 }
 
 }  // namespace

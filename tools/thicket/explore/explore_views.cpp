@@ -8,6 +8,7 @@
 #include "explore_api.h"
 #include "explore_draw.h"
 #include "explore_json.h"
+#include "explore_record.h"
 #include "thicket/util/parallel.h"
 
 namespace thicket::explore {
@@ -40,11 +41,17 @@ const char* kind_name(TraversalStep::Kind k) {
     return "?";
 }
 
-/// The traversal of `ray` as JSON: what explain_ray prints and the trace request returns.
-json traversal_json(const Accel& accel, const Scene& scene, const Ray& ray) {
+/// The traversal of `ray` (closest hit, or any hit) as JSON: what explain_ray prints and the
+/// trace request returns.
+json traversal_json(const Accel& accel, const Scene& scene, const Ray& ray, bool any_hit) {
     TraversalRecorder rec;
     rec.limit = kMaxSteps;
-    const Hit hit = accel.intersect(ray, rec);
+    Hit hit;
+    bool blocked = false;
+    if (any_hit)
+        blocked = record_any_hit(accel, ray, rec);
+    else
+        hit = accel.intersect(ray, rec);
     // A structure that reports only some of its steps (grid2's cells share the grid's primitive
     // tests but not its walk) would give a list that looks whole and is not: totals only.
     if (!rec.detailed) {
@@ -66,6 +73,10 @@ json traversal_json(const Accel& accel, const Scene& scene, const Ray& ray) {
         if (s.kind != TraversalStep::Kind::Prim) {
             const Aabb& b = boxes[s.id];
             if (!b.empty()) j["box"] = box_json(b);
+            // A tetrahedral walk names tetrahedra: their corners, for the page to draw the walk.
+            if (const auto corners = tetrahedron_corners(accel, s.id))
+                j["tetrahedron"] = json::array({vec_json((*corners)[0]), vec_json((*corners)[1]),
+                                                vec_json((*corners)[2]), vec_json((*corners)[3])});
         } else if (s.id < scene.primitive_count()) {
             const PrimRef ref = scene.locate(s.id);
             if (!ref.shape)
@@ -79,7 +90,8 @@ json traversal_json(const Accel& accel, const Scene& scene, const Ray& ray) {
     if (hit.found())
         hit_json = {{"t", hit.t}, {"prim", hit.prim}, {"u", hit.u}, {"v", hit.v},
                     {"point", vec_json(ray.org + ray.dir * hit.t)}};
-    return {{"structure", accel.spec()},
+    json out = {{"structure", accel.spec()},
+            {"query", any_hit ? "any" : "closest"},
             {"ray", {{"org", vec_json(ray.org)}, {"dir", vec_json(ray.dir)}, {"tmin", ray.tmin},
                      {"tmax", std::isfinite(ray.tmax) ? json(ray.tmax) : json(nullptr)}}},
             {"detailed", rec.detailed},
@@ -88,6 +100,8 @@ json traversal_json(const Accel& accel, const Scene& scene, const Ray& ray) {
             {"dropped", rec.dropped},
             {"hit", hit_json},
             {"steps", steps}};
+    if (any_hit) out["occluded"] = blocked;
+    return out;
 }
 
 std::vector<std::string> specs_of(const std::vector<std::unique_ptr<Accel>>& accels) {
@@ -98,8 +112,8 @@ std::vector<std::string> specs_of(const std::vector<std::unique_ptr<Accel>>& acc
 
 }  // namespace
 
-std::string explain_ray(const Accel& accel, const Scene& scene, const Ray& ray) {
-    return traversal_json(accel, scene, ray).dump(1);
+std::string explain_ray(const Accel& accel, const Scene& scene, const Ray& ray, bool any_hit) {
+    return traversal_json(accel, scene, ray, any_hit).dump(1);
 }
 
 Response Session::nodes(const std::string& body) const {
@@ -197,7 +211,7 @@ Response Session::trace(const std::string& body) const {
     const View view = read_view(req);
     const uint32_t x = read_uint(req, "x", 0, view.width - 1, true);
     const uint32_t y = read_uint(req, "y", 0, view.height - 1, true);
-    json j = traversal_json(a, scene_, view.pixel_ray(x, y));
+    json j = traversal_json(a, scene_, view.pixel_ray(x, y), false);
     j["pixel"] = {x, y};
     return json_response(j);
 }
