@@ -7,6 +7,7 @@
 // 87-93%.
 #include <algorithm>
 #include <array>
+#include <span>
 
 #include "splitter.h"
 
@@ -20,6 +21,26 @@ uint32_t halving_count(uint32_t count, uint32_t block) {
     if (count <= block) return count / 2;
     const uint32_t half = (count / 2 + block - 1) / block * block;
     return half < count ? half : half - block;
+}
+
+/// Writes prims[0, n) to `out` in centroid_before's order along `axis`. The keys are gathered
+/// once and insertion-sorted in place: a node here holds at most kBlockPackMax primitives, where
+/// std::sort's indirect comparisons (a centroid load per comparison) cost the build a sixth of
+/// its time. centroid_before is a total order, so the result is std::sort's exactly.
+void sort_by_centroid(const uint32_t* prims, uint32_t n, std::span<const Vec3> centroids, int axis,
+                      uint32_t* out) {
+    std::array<float, kBlockPackMax> key;
+    for (uint32_t k = 0; k < n; ++k) {
+        const uint32_t prim = prims[k];
+        const float v = centroids[prim][axis];
+        uint32_t j = k;
+        for (; j > 0 && centroid_before(v, prim, key[j - 1], out[j - 1]); --j) {
+            key[j] = key[j - 1];
+            out[j] = out[j - 1];
+        }
+        key[j] = v;
+        out[j] = prim;
+    }
 }
 
 }  // namespace
@@ -41,10 +62,7 @@ Split block_split(BuildContext& ctx, const NodeRange& node, uint32_t depth) {
     const bool deep = depth >= kMaxSahDepth;  // past it only halving, which bounds the depth
     for (int axis = 0; axis < 3; ++axis) {
         uint32_t* o = order[size_t(axis)].data();
-        std::copy(idx, idx + n, o);
-        std::sort(o, o + n, [&](uint32_t a, uint32_t b) {
-            return centroid_before(centroids[a][axis], a, centroids[b][axis], b);
-        });
+        sort_by_centroid(idx, n, centroids, axis, o);
         if (deep) continue;
         sah_sweep(
             n, [&](uint32_t k) -> const Aabb& { return bounds[o[k]]; }, [](uint32_t) { return 1u; },
