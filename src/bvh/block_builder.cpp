@@ -7,6 +7,9 @@
 // 87-93%.
 #include <algorithm>
 #include <array>
+#include <bit>
+#include <cstdint>
+#include <span>
 
 #include "splitter.h"
 
@@ -20,6 +23,34 @@ uint32_t halving_count(uint32_t count, uint32_t block) {
     if (count <= block) return count / 2;
     const uint32_t half = (count / 2 + block - 1) / block * block;
     return half < count ? half : half - block;
+}
+
+/// A primitive's place in centroid_before's order along an axis as one integer: the coordinate's
+/// bits made monotonic (-0 first made +0, which centroid_before holds equal; every NaN the
+/// largest key) above the primitive id, so that integer order is centroid_before's exactly.
+uint64_t centroid_key(float v, uint32_t prim) {
+    uint32_t bits = 0xFFFFFFFFu;  // NaN: after every number
+    if (v == v) {
+        bits = std::bit_cast<uint32_t>(v + 0.0f);
+        bits = (bits & 0x80000000u) ? ~bits : bits | 0x80000000u;
+    }
+    return uint64_t(bits) << 32 | prim;
+}
+
+/// Writes prims[0, n) to `out` in centroid_before's order along `axis`. Keys are gathered once
+/// and insertion-sorted as integers: a node here holds at most kBlockPackMax primitives, where
+/// std::sort's indirect comparisons (a centroid load and NaN tests per comparison) cost the
+/// build a sixth of its time. The order is total, so the result is std::sort's exactly.
+void sort_by_centroid(const uint32_t* prims, uint32_t n, std::span<const Vec3> centroids, int axis,
+                      uint32_t* out) {
+    std::array<uint64_t, kBlockPackMax> key;
+    for (uint32_t k = 0; k < n; ++k) {
+        const uint64_t v = centroid_key(centroids[prims[k]][axis], prims[k]);
+        uint32_t j = k;
+        for (; j > 0 && v < key[j - 1]; --j) key[j] = key[j - 1];
+        key[j] = v;
+    }
+    for (uint32_t k = 0; k < n; ++k) out[k] = uint32_t(key[k]);
 }
 
 }  // namespace
@@ -41,10 +72,7 @@ Split block_split(BuildContext& ctx, const NodeRange& node, uint32_t depth) {
     const bool deep = depth >= kMaxSahDepth;  // past it only halving, which bounds the depth
     for (int axis = 0; axis < 3; ++axis) {
         uint32_t* o = order[size_t(axis)].data();
-        std::copy(idx, idx + n, o);
-        std::sort(o, o + n, [&](uint32_t a, uint32_t b) {
-            return centroid_before(centroids[a][axis], a, centroids[b][axis], b);
-        });
+        sort_by_centroid(idx, n, centroids, axis, o);
         if (deep) continue;
         sah_sweep(
             n, [&](uint32_t k) -> const Aabb& { return bounds[o[k]]; }, [](uint32_t) { return 1u; },

@@ -168,6 +168,23 @@ private:
 
 }  // namespace
 
+size_t block_count(const BvhData& binary, uint32_t merge_below) {
+    if (binary.nodes_used == 0) return 0;
+    // Children come after their parent: one backward pass sees both before the parent. A lane's
+    // leaf is the first node from the top that is a binary leaf or holds at most merge_below
+    // (Collapser::is_leaf), so a node's figure is its own blocks if it is one, else its children's.
+    std::vector<uint32_t> count(binary.nodes_used, 0);
+    std::vector<size_t> blocks(binary.nodes_used, 0);
+    for (uint32_t n = binary.nodes_used; n-- > 0;) {
+        if (n == 1) continue;  // the unused slot
+        const BvhNode& node = binary.nodes[n];
+        const uint32_t l = node.leftFirst;
+        count[n] = node.is_leaf() ? node.count : count[l] + count[l + 1];
+        blocks[n] = node.is_leaf() || count[n] <= merge_below ? (size_t(count[n]) + 3) / 4 : blocks[l] + blocks[l + 1];
+    }
+    return blocks[0];
+}
+
 Tree collapse(const BvhData& binary, const LeafEmitter& emit, uint32_t merge_below) {
     Tree tree;
     Collapser(binary, emit, tree, merge_below).run();

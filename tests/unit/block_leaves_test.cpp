@@ -104,6 +104,41 @@ double block_fill(const Accel& accel) {
     return bvh->blocks().empty() ? 1.0 : double(lanes) / double(4 * bvh->blocks().size());
 }
 
+TEST(BlockLeaves, Bvh8BlockCountIsWhatTheCollapseStores) {
+    // bvh8::block_count sizes the blocks' one allocation: too few and the collapse reallocates,
+    // too many and the build copies them to fit. Every triangle here has an area, so it is exact.
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f), d(0.01f, 0.05f);
+    TriangleMesh mesh;
+    for (uint32_t i = 0; i < 3000; ++i) {
+        const Vec3 c{u(rng), u(rng), u(rng)};
+        mesh.positions.insert(mesh.positions.end(), {c, c + Vec3{d(rng), 0.0f, 0.0f}, c + Vec3{0.0f, d(rng), d(rng)}});
+        mesh.indices.insert(mesh.indices.end(), {3 * i, 3 * i + 1, 3 * i + 2});
+    }
+    const Triangles<> tris(mesh);
+    for (const BvhBuilder builder : {BvhBuilder::BinnedSah, BvhBuilder::Lbvh, BvhBuilder::Midpoint}) {
+        for (const uint32_t block : {1u, 4u}) {
+            for (const uint32_t merge : {0u, 4u, 8u}) {
+                Bvh8Options o;
+                o.binary.builder = builder;
+                o.binary.sah_block = block;
+                const BvhData binary = bvh8::build_binary(tris, o.binary);
+                bvh8::Blocks blocks;
+                bvh8::BlockPacking packing;
+                bvh8::collapse(
+                    binary,
+                    [&](uint32_t first, uint32_t count) {
+                        return bvh8::pack_blocks(blocks, tris, binary.prim_indices.data() + first, count, packing);
+                    },
+                    merge);
+                EXPECT_EQ(bvh8::block_count(binary, merge), blocks.size())
+                    << "builder " << int(builder) << ", sah-block " << block << ", leaf-merge " << merge;
+                EXPECT_EQ(packing.lanes, tris.size());
+            }
+        }
+    }
+}
+
 TEST(BlockLeaves, Bvh8BlocksAreAtLeastNinetyPercentFullOnEverySharedScene) {
     const std::vector<std::string> files = testing::shared_scene_files();
     if (files.empty()) GTEST_SKIP() << testing::shared_scenes_missing_message();

@@ -72,7 +72,7 @@ public:
         s.extra.emplace_back("largest leaf", std::to_string(f.max_leaf_size));
         // More references than primitives: spatial splits (builder=sbvh) list some in several leaves.
         s.extra.emplace_back("references", reference_figure(data_.prim_indices.size(), prims_.size()));
-        s.extra.emplace_back("node pool", std::to_string(data_.nodes.size()) + " nodes allocated, " +
+        s.extra.emplace_back("node pool", std::to_string(data_.nodes.capacity()) + " nodes allocated, " +
                                               std::to_string(data_.nodes_used) + " used (slot 1 unused)");
         return s;
     }

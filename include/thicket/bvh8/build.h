@@ -54,6 +54,11 @@ BvhData build_binary(const P& prims, const BvhBuildOptions& options) {
 /// becomes one lane, stored by `emit`.
 Tree collapse(const BvhData& binary, const LeafEmitter& emit, uint32_t merge_below);
 
+/// The 4-triangle blocks collapse(binary, emit, merge_below) stores when every primitive is
+/// packed: ceil(n / 4) per lane's leaf of n. An upper bound when the packing drops degenerate or
+/// repeated triangles; so the blocks are reserved once, neither 4x too many nor copied to fit.
+size_t block_count(const BvhData& binary, uint32_t merge_below);
+
 /// Checks what the kernels rely on: child indices in range and after their parent (no cycle),
 /// leaves within `leaf_slots`, empty lanes inverted. Throws Error naming the first violation.
 void validate_tree(const Tree& tree, size_t leaf_slots);

@@ -73,9 +73,9 @@ public:
         references_ = binary.prim_indices.size();
         if constexpr (kBlocks) {
             dropped_ = bvh8::count_degenerate(prims_);
-            // Every block holds at least one triangle: never reallocated during the collapse. One
-            // per reference, not per triangle: spatial splits (sbvh) list a triangle in several leaves.
-            reserve_huge(blocks_, binary.prim_indices.size());
+            // Exactly the blocks the collapse stores (an upper bound when it drops degenerate or
+            // repeated triangles): never reallocated during the collapse, never copied to fit.
+            reserve_huge(blocks_, bvh8::block_count(binary, options.merge_below));
             std::vector<uint32_t> slivers;
             bvh8::BlockPacking packing{references_ > primitives_, &slivers};
             tree_ = bvh8::collapse(
@@ -85,7 +85,8 @@ public:
                 },
                 options.merge_below);
             bvh8::validate_tree(tree_, blocks_.size());
-            blocks_.shrink_to_fit();  // the reservation above is one block per triangle: 4x the need
+            // Many degenerate triangles (dropped) can leave the reservation well above the need.
+            if (blocks_.capacity() - blocks_.size() > blocks_.size() / 8) blocks_.shrink_to_fit();
             kept_ = packing.lanes;
             slivers_ = bvh8::build_sliver_tree(prims_, std::move(slivers), options.binary, options.merge_below);
             prims_ = Prims();  // the blocks are the structure's only copy of the triangles
