@@ -107,9 +107,9 @@ InstanceTop::InstanceTop(std::span<const Aabb> boxes, std::vector<InstanceLeaf> 
             binary, [](uint32_t first, uint32_t count) { return bvh8::LeafPlacement{first, count}; }, 1);
         bvh8::validate_tree(tree_, ids_.size());
     }
-    // Compressed nodes (96 bytes, boxes rounded outward: the same hits): a top level of one
-    // instance per leaf has about 0.4 nodes per instance, which at 256 bytes a node would outweigh
-    // everything else an instance holds.
+    // Compressed nodes (96 bytes, boxes rounded outward: the same hits). The collapse fills a
+    // top level of one instance per leaf poorly (0.4 nodes per instance on the 10^4 forest), and
+    // at 256 bytes a node the nodes would outweigh everything else an instance holds.
     if (!tree_.nodes.empty()) {
         qnodes_ = bvh8::compress_nodes(tree_.nodes);
         tree_.nodes = {};
@@ -131,7 +131,7 @@ InstanceTop::InstanceTop(std::span<const Aabb> boxes, std::vector<InstanceLeaf> 
 /// Whether the ray enters the root's box: the kernels test children's boxes only (and count the
 /// root as visited), and most rays of a sparse scene miss the whole of it.
 bool InstanceTop::enters(const Ray& ray) const {
-    return (!tree_.nodes.empty() || !qnodes_.empty()) && ray_box_entry(RayBoxQuery(ray), tree_.bounds, ray.tmin, ray.tmax) != kInfinity;
+    return !qnodes_.empty() && ray_box_entry(RayBoxQuery(ray), tree_.bounds, ray.tmin, ray.tmax) != kInfinity;
 }
 
 Hit InstanceTop::closest(const Ray& ray, RayCounters* counters) const {

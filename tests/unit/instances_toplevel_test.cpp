@@ -51,7 +51,8 @@ std::shared_ptr<const Scene> ball() {
     auto at = [&](int r, int k) { return uint32_t(r * segments + (k % segments)); };
     for (int r = 0; r < rings; ++r)
         for (int k = 0; k < segments; ++k)
-            m.indices.insert(m.indices.end(), {at(r, k), at(r + 1, k), at(r, k + 1), at(r, k + 1), at(r + 1, k), at(r + 1, k + 1)});
+            m.indices.insert(m.indices.end(),
+                             {at(r, k), at(r + 1, k), at(r, k + 1), at(r, k + 1), at(r + 1, k), at(r + 1, k + 1)});
     scene->add_mesh(m);
     return scene;
 }

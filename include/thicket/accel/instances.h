@@ -1,8 +1,9 @@
 #pragma once
-/// Two-level instancing: a top-level 8-wide BVH over instances (accel/instance_top.h), each a geometry of a prototype scene
-/// under an affine transform, over one bottom-level structure (any registered spec) per geometry
-/// that some instance references, built once however many instances share it. Memory grows with
-/// the unique geometry; moving instances (set_transform) rebuilds only the top level.
+/// Two-level instancing: a top-level 8-wide BVH over instances (accel/instance_top.h), each a
+/// geometry of a prototype scene under an affine transform, over one bottom-level structure (any
+/// registered spec) per geometry that some instance references, built once however many
+/// instances share it. Memory grows with the unique geometry; moving instances (set_transform)
+/// rebuilds only the top level.
 ///
 /// Rays are carried into each instance's space by its inverse transform; the ray parameter t is
 /// unchanged by an affine map, so hits' t are in the world ray's units. Through the Accel
