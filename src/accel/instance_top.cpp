@@ -38,7 +38,7 @@ bool closest_instances(const void* view, const uint32_t* ids, uint32_t count, co
     const auto& v = *static_cast<const InstanceTop::View*>(view);
     bool found = false;
     for (uint32_t k = 0; k < count; ++k) {
-        const InstanceLeaf& leaf = v.leaves[ids[k]];
+        const InstanceLeaf& leaf = v.leaves[ids + k - v.ids];
         const InstanceBottom& b = v.bottoms[leaf.bottom];
         const Ray local = to_local(ray, leaf.inverse, hit.t);
         Hit h;
@@ -57,7 +57,7 @@ bool closest_instances(const void* view, const uint32_t* ids, uint32_t count, co
 bool any_instance(const void* view, const uint32_t* ids, uint32_t count, const Ray& ray) {
     const auto& v = *static_cast<const InstanceTop::View*>(view);
     for (uint32_t k = 0; k < count; ++k) {
-        const InstanceLeaf& leaf = v.leaves[ids[k]];
+        const InstanceLeaf& leaf = v.leaves[ids + k - v.ids];
         const InstanceBottom& b = v.bottoms[leaf.bottom];
         const Ray local = to_local(ray, leaf.inverse, ray.tmax);
         bool hit;
@@ -102,7 +102,15 @@ InstanceTop::InstanceTop(std::span<const Aabb> boxes, std::vector<InstanceLeaf> 
         options.sah_block = 1;
         options.threads = threads;
         const BvhData binary = build_bvh({kept_boxes, centroids, {}}, options);
-        for (const uint32_t p : binary.prim_indices) ids_.push_back(kept[p]);
+        // The leaves' records in the tree's leaf order: a leaf reads its own slot, and the
+        // instances a ray meets one after another lie side by side.
+        std::vector<InstanceLeaf> ordered;
+        ordered.reserve(binary.prim_indices.size());
+        for (const uint32_t p : binary.prim_indices) {
+            ids_.push_back(kept[p]);
+            ordered.push_back(leaves_[kept[p]]);
+        }
+        leaves_ = std::move(ordered);
         tree_ = bvh8::collapse(
             binary, [](uint32_t first, uint32_t count) { return bvh8::LeafPlacement{first, count}; }, 1);
         bvh8::validate_tree(tree_, ids_.size());
@@ -114,7 +122,7 @@ InstanceTop::InstanceTop(std::span<const Aabb> boxes, std::vector<InstanceLeaf> 
         qnodes_ = bvh8::compress_nodes(tree_.nodes);
         tree_.nodes = {};
     }
-    view_ = {leaves_.data(), bottoms_.data(), nullptr};
+    view_ = {ids_.data(), leaves_.data(), bottoms_.data(), nullptr};
     ctx_ = {.nodes = qnodes_.empty() ? tree_.nodes.data() : nullptr,
             .qnodes = qnodes_.empty() ? nullptr : qnodes_.data(),
             .blocks = nullptr,

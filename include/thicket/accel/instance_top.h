@@ -72,9 +72,11 @@ public:
     const bvh8::Tree& tree() const { return tree_; }
     const bvh8::QNodes& qnodes() const { return qnodes_; }
 
-    /// What the leaf callbacks read (ctx.prims points at one): the leaves and bottoms, and the
-    /// counters of a counting query (null otherwise).
+    /// What the leaf callbacks read (ctx.prims points at one): the leaves' records in the slots
+    /// of the tree's leaf storage (a callback's ids - ids), the bottoms, and the counters of a
+    /// counting query (null otherwise).
     struct View {
+        const uint32_t* ids;
         const InstanceLeaf* leaves;
         const InstanceBottom* bottoms;
         RayCounters* counters;
@@ -83,7 +85,7 @@ public:
 private:
     bool enters(const Ray& ray) const;
 
-    std::vector<InstanceLeaf> leaves_;
+    std::vector<InstanceLeaf> leaves_;  ///< in ids_' order once built (a slot per leaf entry)
     std::vector<InstanceBottom> bottoms_;
     std::vector<uint32_t> ids_;  ///< the leaves' instance ids, as the tree's leaves list them
     bvh8::Tree tree_;
