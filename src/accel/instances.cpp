@@ -3,21 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
-#include <type_traits>
 #include <utility>
 
 #include "thicket/accel/registry.h"
 #include "thicket/core/error.h"
-#include "thicket/core/ray_box.h"
 
 namespace thicket {
-
-namespace {
-
-/// Instances per top-level leaf: one, so that a ray tests only the instances whose box it enters.
-constexpr uint32_t kTopLeafSize = 1;
-
-}  // namespace
 
 Scene geometry_scene(const Scene& scene, uint32_t geometry) {
     if (geometry >= scene.geometry_count())
@@ -90,6 +81,7 @@ InstancedAccel::InstancedAccel(std::shared_ptr<const Scene> prototypes, std::vec
     check_instances(instances, inverses_, flat_first_);
     instances_ = std::move(instances);
     bottoms_.resize(prototypes_->geometry_count());
+    parts_.resize(prototypes_->geometry_count());
     for (const Instance& inst : instances_) build_bottom(inst.geometry, threads);
     build_top();
     set_origin(bottom_spec_, 0.0);
@@ -97,7 +89,9 @@ InstancedAccel::InstancedAccel(std::shared_ptr<const Scene> prototypes, std::vec
 
 void InstancedAccel::build_bottom(uint32_t geometry, unsigned threads) {
     if (bottoms_[geometry]) return;
-    bottoms_[geometry] = build_accel(bottom_spec_, geometry_scene(*prototypes_, geometry), threads);
+    const Scene scene = geometry_scene(*prototypes_, geometry);
+    bottoms_[geometry] = build_accel(bottom_spec_, scene, threads);
+    parts_[geometry] = vertex_parts(scene, bottoms_[geometry]->bounds());
 }
 
 uint32_t InstancedAccel::add_instance(const Instance& instance) {
@@ -149,56 +143,19 @@ void InstancedAccel::set_transform(uint32_t id, const Affine& transform) {
 void InstancedAccel::build_top() {
     const auto n = uint32_t(instances_.size());
     world_boxes_.resize(n);
+    std::vector<InstanceLeaf> leaves(n);
     for (uint32_t i = 0; i < n; ++i) {
-        world_boxes_[i] = transform_box(instances_[i].transform, bottoms_[instances_[i].geometry]->bounds());
+        const uint32_t g = instances_[i].geometry;
+        world_boxes_[i] = transform_parts(instances_[i].transform, parts_[g]);
         for (int a = 0; a < 3; ++a)
             if (!world_boxes_[i].empty() && (!std::isfinite(world_boxes_[i].min[a]) || !std::isfinite(world_boxes_[i].max[a])))
                 throw Error("instance " + std::to_string(i) + ": its transform carries the geometry beyond float range");
+        leaves[i] = {inverses_[i], uint32_t(flat_first_[i]), g};
     }
-    order_.resize(n);
-    for (uint32_t i = 0; i < n; ++i) order_[i] = i;
-    nodes_.clear();
-    if (n == 0) return;
-    nodes_.reserve(2 * size_t(n));
-    // Median splits on the widest axis of the centroids: instances are few (thousands) and
-    // scattered, where this is within a few percent of SAH and builds in microseconds each.
-    struct Task {
-        uint32_t node, begin, end;
-    };
-    std::vector<Task> tasks{{0, 0, n}};
-    nodes_.emplace_back();
-    while (!tasks.empty()) {
-        const Task t = tasks.back();
-        tasks.pop_back();
-        Aabb box, centroids;
-        for (uint32_t k = t.begin; k < t.end; ++k) {
-            box.grow(world_boxes_[order_[k]]);
-            if (!world_boxes_[order_[k]].empty()) centroids.grow(world_boxes_[order_[k]].center());
-        }
-        nodes_[t.node].box = box;
-        if (t.end - t.begin <= kTopLeafSize) {
-            nodes_[t.node].first = t.begin;
-            nodes_[t.node].count = t.end - t.begin;
-            continue;
-        }
-        const Vec3 e = centroids.empty() ? Vec3(0.0f) : centroids.extent();
-        const int axis = e.x >= e.y && e.x >= e.z ? 0 : (e.y >= e.z ? 1 : 2);
-        const uint32_t mid = t.begin + (t.end - t.begin) / 2;
-        std::nth_element(order_.begin() + t.begin, order_.begin() + mid, order_.begin() + t.end,
-                         [&](uint32_t a, uint32_t b) {
-                             const float ca = world_boxes_[a].empty() ? 0.0f : world_boxes_[a].center()[axis];
-                             const float cb = world_boxes_[b].empty() ? 0.0f : world_boxes_[b].center()[axis];
-                             return ca < cb || (ca == cb && a < b);
-                         });
-        // Children are allocated together, so an interior node names only the first.
-        const auto left = uint32_t(nodes_.size());
-        nodes_.emplace_back();
-        nodes_.emplace_back();
-        nodes_[t.node].first = left;
-        nodes_[t.node].count = 0;
-        tasks.push_back({left + 1, mid, t.end});
-        tasks.push_back({left, t.begin, mid});
-    }
+    std::vector<InstanceBottom> bottoms(bottoms_.size());
+    for (size_t g = 0; g < bottoms_.size(); ++g)
+        if (bottoms_[g]) bottoms[g] = instance_bottom(*bottoms_[g]);
+    top_ = std::make_unique<const InstanceTop>(world_boxes_, std::move(leaves), std::move(bottoms), 0);
 }
 
 namespace {
@@ -215,94 +172,12 @@ Ray to_instance(const Ray& ray, const Affine& inverse, float tmax) {
 
 }  // namespace
 
-template <class C>
-Hit InstancedAccel::closest(const Ray& ray, C& counters) const {
-    Hit best = miss_for(ray);
-    if (nodes_.empty()) return best;
-    const RayBoxQuery q(ray);
-    struct Entry {
-        uint32_t node;
-        float t;
-    };
-    Entry stack[64];
-    int top = 0;
-    stack[top++] = {0, ray_box_entry(q, nodes_[0].box, ray.tmin, ray.tmax)};
-    while (top > 0) {
-        const Entry e = stack[--top];
-        // A missed box enters at +inf, which is not beyond an unbounded ray's best.t (+inf).
-        if (e.t == kInfinity || e.t > best.t) continue;
-        const Node& node = nodes_[e.node];
-        counters.node();
-        if (node.count > 0) {
-            for (uint32_t k = node.first; k < node.first + node.count; ++k) {
-                const uint32_t i = order_[k];
-                const Ray local = to_instance(ray, inverses_[i], best.t);
-                Hit h;
-                if constexpr (std::is_same_v<C, NoCounters>) h = bottoms_[instances_[i].geometry]->intersect(local);
-                else h = bottoms_[instances_[i].geometry]->intersect(local, counters);
-                if (h.found() && (!best.found() || h.t < best.t)) {
-                    best = h;
-                    best.prim = uint32_t(flat_first_[i] + h.prim);
-                }
-            }
-            continue;
-        }
-        const uint32_t a = node.first, b = node.first + 1;
-        const float ta = ray_box_entry(q, nodes_[a].box, ray.tmin, best.t);
-        const float tb = ray_box_entry(q, nodes_[b].box, ray.tmin, best.t);
-        // Nearer child on top of the stack; the depth of median splits is log2(instances) < 64.
-        if (ta <= tb) {
-            stack[top++] = {b, tb};
-            stack[top++] = {a, ta};
-        } else {
-            stack[top++] = {a, ta};
-            stack[top++] = {b, tb};
-        }
-    }
-    return best;
-}
+Hit InstancedAccel::intersect(const Ray& ray) const { return top_->closest(ray, nullptr); }
+Hit InstancedAccel::intersect(const Ray& ray, RayCounters& counters) const { return top_->closest(ray, &counters); }
+bool InstancedAccel::occluded(const Ray& ray) const { return top_->any(ray, nullptr); }
+bool InstancedAccel::occluded(const Ray& ray, RayCounters& counters) const { return top_->any(ray, &counters); }
 
-template <class C>
-bool InstancedAccel::any(const Ray& ray, C& counters) const {
-    if (nodes_.empty()) return false;
-    const RayBoxQuery q(ray);
-    uint32_t stack[64];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-        const Node& node = nodes_[stack[--top]];
-        if (ray_box_entry(q, node.box, ray.tmin, ray.tmax) == kInfinity) continue;
-        counters.node();
-        if (node.count == 0) {
-            stack[top++] = node.first + 1;
-            stack[top++] = node.first;
-            continue;
-        }
-        for (uint32_t k = node.first; k < node.first + node.count; ++k) {
-            const uint32_t i = order_[k];
-            const Ray local = to_instance(ray, inverses_[i], ray.tmax);
-            const Accel& bottom = *bottoms_[instances_[i].geometry];
-            bool hit;
-            if constexpr (std::is_same_v<C, NoCounters>) hit = bottom.occluded(local);
-            else hit = bottom.occluded(local, counters);
-            if (hit) return true;
-        }
-    }
-    return false;
-}
-
-Hit InstancedAccel::intersect(const Ray& ray) const {
-    NoCounters none;
-    return closest(ray, none);
-}
-Hit InstancedAccel::intersect(const Ray& ray, RayCounters& counters) const { return closest(ray, counters); }
-bool InstancedAccel::occluded(const Ray& ray) const {
-    NoCounters none;
-    return any(ray, none);
-}
-bool InstancedAccel::occluded(const Ray& ray, RayCounters& counters) const { return any(ray, counters); }
-
-Aabb InstancedAccel::bounds() const { return nodes_.empty() ? Aabb{} : nodes_[0].box; }
+Aabb InstancedAccel::bounds() const { return top_->bounds(); }
 
 InstanceHit InstancedAccel::locate(uint32_t prim) const {
     InstanceHit r;
@@ -340,7 +215,7 @@ size_t InstancedAccel::unique_primitives() const {
 AccelStats InstancedAccel::stats() const {
     AccelStats s = base_stats();
     s.primitives = instanced_primitives();
-    s.nodes = nodes_.size();
+    s.nodes = top_->node_count();
     size_t geometries = 0;
     for (const auto& b : bottoms_)
         if (b) {
@@ -350,10 +225,12 @@ AccelStats InstancedAccel::stats() const {
             s.primitive_bytes += bs.primitive_bytes;
             ++geometries;
         }
-    s.bytes += nodes_.size() * sizeof(Node) + order_.size() * sizeof(uint32_t) +
-               instances_.size() * (2 * sizeof(Affine) + sizeof(Aabb) + sizeof(uint64_t) + sizeof(Instance));
+    // What is held per instance: its placement, inverse, flattened id, world box, and the top
+    // level's copy of what a leaf reads (InstanceTop::bytes).
+    s.bytes += top_->bytes() + instances_.size() * sizeof(Instance) + inverses_.size() * sizeof(Affine) +
+               flat_first_.size() * sizeof(uint64_t) + world_boxes_.size() * sizeof(Aabb);
     s.extra.emplace_back(kSahUndefinedKey, "two levels: each bottom level has its own SAH cost");
-    s.extra.emplace_back("instanced", "two levels: a top-level BVH over the instances, this spec below");
+    s.extra.emplace_back("instanced", "two levels: a top-level 8-wide BVH over the instances, this spec below");
     s.extra.emplace_back("instances", std::to_string(instances_.size()));
     s.extra.emplace_back("geometries instanced", std::to_string(geometries));
     s.extra.emplace_back("unique primitives", std::to_string(unique_primitives()));

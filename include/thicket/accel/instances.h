@@ -1,8 +1,9 @@
 #pragma once
-/// Two-level instancing: a top-level BVH over instances, each a geometry of a prototype scene
-/// under an affine transform, over one bottom-level structure (any registered spec) per geometry
-/// that some instance references, built once however many instances share it. Memory grows with
-/// the unique geometry; moving instances (set_transform) rebuilds only the top level.
+/// Two-level instancing: a top-level 8-wide BVH over instances (accel/instance_top.h), each a
+/// geometry of a prototype scene under an affine transform, over one bottom-level structure (any
+/// registered spec) per geometry that some instance references, built once however many
+/// instances share it. Memory grows with the unique geometry; moving instances (set_transform)
+/// rebuilds only the top level.
 ///
 /// Rays are carried into each instance's space by its inverse transform; the ray parameter t is
 /// unchanged by an affine map, so hits' t are in the world ray's units. Through the Accel
@@ -19,6 +20,7 @@
 #include <vector>
 
 #include "thicket/accel/accel.h"
+#include "thicket/accel/instance_top.h"
 #include "thicket/accel/registry.h"
 #include "thicket/scene/instance.h"
 #include "thicket/scene/scene.h"
@@ -66,6 +68,10 @@ public:
     size_t instanced_primitives() const { return flat_first_.empty() ? 0 : flat_first_.back(); }
     /// The bottom-level structure of geometry `geometry`; null if no instance references it.
     const Accel* bottom(uint32_t geometry) const { return bottoms_.at(geometry).get(); }
+    /// The top level: its tree over the instances' world boxes.
+    const InstanceTop& top() const { return *top_; }
+    /// Instance `id`'s world box as the top level holds it (empty for empty geometry).
+    const Aabb& world_box(uint32_t id) const { return world_boxes_.at(id); }
 
     using Accel::intersect;  // the batch overloads stay visible next to the per-ray ones
     using Accel::occluded;
@@ -84,13 +90,6 @@ public:
     void save(std::ostream& out) const override;
 
 private:
-    struct Node {
-        Aabb box;
-        uint32_t first = 0;  ///< leaf: first index into order_; interior: the first child (the second follows)
-        uint32_t count = 0;  ///< instances in a leaf; 0 for an interior node
-    };
-    template <class C> Hit closest(const Ray& ray, C& counters) const;
-    template <class C> bool any(const Ray& ray, C& counters) const;
     void build_bottom(uint32_t geometry, unsigned threads);
     void build_top();
     /// The inverses and flattened ids of instances_ (throws, leaving members unchanged).
@@ -103,9 +102,9 @@ private:
     std::vector<Affine> inverses_;
     std::vector<uint64_t> flat_first_;  ///< instances + 1 entries: flattened id of each one's first primitive
     std::vector<std::shared_ptr<const Accel>> bottoms_;  ///< per geometry of prototypes_
+    std::vector<std::vector<Aabb>> parts_;  ///< per geometry of prototypes_: vertex_parts of what bottoms_ holds
     std::vector<Aabb> world_boxes_;
-    std::vector<uint32_t> order_;
-    std::vector<Node> nodes_;
+    std::unique_ptr<const InstanceTop> top_;
 };
 
 /// What build_accel() builds over a scene with instances: an InstancedAccel over a copy of the
