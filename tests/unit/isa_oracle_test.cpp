@@ -46,7 +46,10 @@ std::vector<std::string> levels_allowed(const std::set<std::string>& f) {
         return true;
     };
     std::vector<std::string> levels = {"scalar", "sse"};
-    if (has({"avx2", "fma", "bmi1", "bmi2", "abm", "popcnt"})) {
+    // LZCNT's name is "abm"; some virtual machines' kernels leave it out while CPUID has the bit
+    // (an AMD EPYC VM listing avx512f and bmi2). No CPU has BMI2 without LZCNT, so bmi2 stands in.
+    const bool lzcnt = has({"abm"}) || has({"lzcnt"}) || has({"bmi2"});
+    if (lzcnt && has({"avx2", "fma", "bmi1", "bmi2", "popcnt"})) {
         levels.push_back("avx2");
         if (has({"avx512f", "avx512vl"})) levels.push_back("avx512");
     }
