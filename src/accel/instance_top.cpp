@@ -4,9 +4,7 @@
 #include <utility>
 
 #include "thicket/bvh8/bvh8.h"
-#include "thicket/bvh8/compress.h"
 #include "thicket/bvh8/isa.h"
-#include "thicket/core/ray_box.h"
 #include "thicket/prims/triangles.h"
 
 namespace thicket {
@@ -28,8 +26,8 @@ bool bvh8_bottom(const Accel& accel, InstanceBottom& out) {
 }
 
 /// Carries the world ray into an instance's space: t, tmin and tmax keep their meaning.
-inline Ray to_local(const Ray& ray, const Affine& inverse, float tmax) {
-    return Ray{inverse.point(ray.org), ray.tmin, inverse.vector(ray.dir), tmax};
+inline Ray to_local(const Ray& ray, const RayToInstance& map, float tmax) {
+    return Ray{map.point(ray.org), ray.tmin, map.vector(ray.dir), tmax};
 }
 
 /// ClosestLeafFn of the top level: each instance of the leaf tested below hit.t; a nearer hit
@@ -40,7 +38,7 @@ bool closest_instances(const void* view, const uint32_t* ids, uint32_t count, co
     for (uint32_t k = 0; k < count; ++k) {
         const InstanceLeaf& leaf = v.leaves[ids + k - v.ids];
         const InstanceBottom& b = v.bottoms[leaf.bottom];
-        const Ray local = to_local(ray, leaf.inverse, hit.t);
+        const Ray local = to_local(ray, leaf.to_local, hit.t);
         Hit h;
         if (b.ctx) h = b.closest[v.counters ? 1 : 0](*b.ctx, local, v.counters);
         else h = v.counters ? b.accel->intersect(local, *v.counters) : b.accel->intersect(local);
@@ -59,7 +57,7 @@ bool any_instance(const void* view, const uint32_t* ids, uint32_t count, const R
     for (uint32_t k = 0; k < count; ++k) {
         const InstanceLeaf& leaf = v.leaves[ids + k - v.ids];
         const InstanceBottom& b = v.bottoms[leaf.bottom];
-        const Ray local = to_local(ray, leaf.inverse, ray.tmax);
+        const Ray local = to_local(ray, leaf.to_local, ray.tmax);
         bool hit;
         if (b.ctx) hit = b.any[v.counters ? 1 : 0](*b.ctx, local, v.counters);
         else hit = v.counters ? b.accel->occluded(local, *v.counters) : b.accel->occluded(local);
@@ -115,35 +113,19 @@ InstanceTop::InstanceTop(std::span<const Aabb> boxes, std::vector<InstanceLeaf> 
             binary, [](uint32_t first, uint32_t count) { return bvh8::LeafPlacement{first, count}; }, 1);
         bvh8::validate_tree(tree_, ids_.size());
     }
-    // Compressed nodes (96 bytes, boxes rounded outward: the same hits). The collapse fills a
-    // top level of one instance per leaf poorly (0.4 nodes per instance on the 10^4 forest), and
-    // at 256 bytes a node the nodes would outweigh everything else an instance holds.
-    if (!tree_.nodes.empty()) {
-        qnodes_ = bvh8::compress_nodes(tree_.nodes);
-        tree_.nodes = {};
-    }
     view_ = {ids_.data(), leaves_.data(), bottoms_.data(), nullptr};
-    ctx_ = {.nodes = qnodes_.empty() ? tree_.nodes.data() : nullptr,
-            .qnodes = qnodes_.empty() ? nullptr : qnodes_.data(),
+    ctx_ = {.nodes = tree_.nodes.data(),
+            .qnodes = nullptr,
             .blocks = nullptr,
             .ids = ids_.data(),
             .prims = &view_,
             .closest_leaf = &closest_instances,
             .any_leaf = &any_instance};
-    if (qnodes_.empty())
-        bvh8::set_plane_bounds(ctx_, tree_.nodes.data(), tree_.nodes.size());
-    else
-        bvh8::set_plane_bounds(ctx_, qnodes_.data(), qnodes_.size());
-}
-
-/// Whether the ray enters the root's box: the kernels test children's boxes only (and count the
-/// root as visited), and most rays of a sparse scene miss the whole of it.
-bool InstanceTop::enters(const Ray& ray) const {
-    return !qnodes_.empty() && ray_box_entry(RayBoxQuery(ray), tree_.bounds, ray.tmin, ray.tmax) != kInfinity;
+    if (!tree_.nodes.empty()) bvh8::set_plane_bounds(ctx_, tree_.nodes.data(), tree_.nodes.size());
 }
 
 Hit InstanceTop::closest(const Ray& ray, RayCounters* counters) const {
-    if (!enters(ray)) return miss_for(ray);
+    if (tree_.nodes.empty()) return miss_for(ray);
     if (!counters) return kernels_->closest[bvh8::kLeafCallback][0](ctx_, ray, nullptr);
     // The counters travel to the leaves in a view of this call's own.
     View counting = view_;
@@ -154,7 +136,7 @@ Hit InstanceTop::closest(const Ray& ray, RayCounters* counters) const {
 }
 
 bool InstanceTop::any(const Ray& ray, RayCounters* counters) const {
-    if (!enters(ray)) return false;
+    if (tree_.nodes.empty()) return false;
     if (!counters) return kernels_->any[bvh8::kLeafCallback][0](ctx_, ray, nullptr);
     View counting = view_;
     counting.counters = counters;

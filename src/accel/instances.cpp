@@ -150,7 +150,7 @@ void InstancedAccel::build_top() {
         for (int a = 0; a < 3; ++a)
             if (!world_boxes_[i].empty() && (!std::isfinite(world_boxes_[i].min[a]) || !std::isfinite(world_boxes_[i].max[a])))
                 throw Error("instance " + std::to_string(i) + ": its transform carries the geometry beyond float range");
-        leaves[i] = {inverses_[i], uint32_t(flat_first_[i]), g};
+        leaves[i] = {ray_to_instance(instances_[i].transform, inverses_[i]), uint32_t(flat_first_[i]), g};
     }
     std::vector<InstanceBottom> bottoms(bottoms_.size());
     for (size_t g = 0; g < bottoms_.size(); ++g)
@@ -161,10 +161,10 @@ void InstancedAccel::build_top() {
 namespace {
 
 /// Carries a world ray into an instance's space: t, tmin and tmax keep their meaning.
-Ray to_instance(const Ray& ray, const Affine& inverse, float tmax) {
+Ray to_instance(const Ray& ray, const RayToInstance& to_local, float tmax) {
     Ray local;
-    local.org = inverse.point(ray.org);
-    local.dir = inverse.vector(ray.dir);
+    local.org = to_local.point(ray.org);
+    local.dir = to_local.vector(ray.dir);
     local.tmin = ray.tmin;
     local.tmax = tmax;
     return local;
@@ -196,7 +196,8 @@ Vec3 InstancedAccel::normal(const Ray& ray, const Hit& hit) const {
     const Affine& inv = inverses_[where.instance];
     Hit local = hit;
     local.prim = where.scene_prim;
-    const Vec3 n = prototypes_->normal(to_instance(ray, inv, ray.tmax), local);
+    const RayToInstance to_local = ray_to_instance(instances_[where.instance].transform, inv);
+    const Vec3 n = prototypes_->normal(to_instance(ray, to_local, ray.tmax), local);
     Vec3 w = inv.transposed_vector(n);
     if (!prototypes_->locate(where.scene_prim).shape && transform_determinant(instances_[where.instance].transform) < 0.0)
         w = -w;

@@ -86,6 +86,14 @@ Affine checked_inverse(const Affine& t, const std::string& what) {
     return r;
 }
 
+RayToInstance ray_to_instance(const Affine& transform, const Affine& inverse) {
+    RayToInstance r;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) r.inverse[i][j] = inverse.m[i][j];
+    r.offset = {transform.m[0][3], transform.m[1][3], transform.m[2][3]};
+    return r;
+}
+
 Aabb transform_box(const Affine& t, const Aabb& box) {
     Aabb out;
     if (box.empty()) return out;
@@ -120,9 +128,10 @@ bool place_instanced_hit(const Scene& scene, const Ray& ray, const Hit& hit, Ins
     place.placed = true;
     place.inverse = checked_inverse(inst.transform, "instance " + std::to_string(i));
     place.mirrored = transform_determinant(inst.transform) < 0.0;
+    const RayToInstance to_local = ray_to_instance(inst.transform, place.inverse);
     place.ray = ray;
-    place.ray.org = place.inverse.point(ray.org);
-    place.ray.dir = place.inverse.vector(ray.dir);
+    place.ray.org = to_local.point(ray.org);
+    place.ray.dir = to_local.vector(ray.dir);
     place.hit = hit;
     place.hit.prim = scene.geometry(inst.geometry).first + uint32_t(hit.prim - scene.instance_first[i]);
     return true;

@@ -283,7 +283,8 @@ TEST(InstanceUpdates, RaysVisitOnlyTheBoxesTheyEnter) {
     const InstancedAccel accel(prototypes(), row, "bvh");
     RayCounters beside, across;
     EXPECT_FALSE(accel.intersect(Ray{{0.0f, 5.0f, 0.0f}, 0.0f, {1.0f, 0.0f, 0.0f}}, beside).found());
-    EXPECT_EQ(beside.nodes, 0u);
+    EXPECT_EQ(beside.nodes, 1u);  // the root, none of whose children's boxes it enters
+    EXPECT_EQ(beside.prims, 0u);
     EXPECT_TRUE(accel.intersect(Ray{{300.0f, 0.5f, -5.0f}, 0.0f, {0.0f, 0.0f, 1.0f}}, across).found());
     EXPECT_LT(across.nodes, 100u);  // the top level alone has 399 nodes
 }
@@ -298,9 +299,12 @@ TEST(InstanceUpdates, MemoryFollowsUniqueGeometry) {
     EXPECT_EQ(all.unique_primitives(), one.unique_primitives());
     EXPECT_EQ(all.instanced_primitives(), 200 * one.instanced_primitives());
     // The bottom level is held once: 199 more instances add their records and top-level nodes,
-    // far less than one more copy of the structure and its triangles each.
+    // far less than one more copy of the structure and its triangles each: a 64-byte leaf record,
+    // the 52-byte instance, its 48-byte inverse, 24-byte world box and 4-byte id, and about 0.4
+    // top-level nodes of 256 bytes (uncompressed: instance_top.h says why).
     const size_t per_instance = (s200.bytes + s200.primitive_bytes - s1.bytes - s1.primitive_bytes) / 199;
-    EXPECT_LT(per_instance, 256u);
+    EXPECT_LT(per_instance, 320u);
+    EXPECT_LT(20 * per_instance, s1.bytes + s1.primitive_bytes);
     EXPECT_EQ(s200.primitive_bytes, s1.primitive_bytes);
 }
 

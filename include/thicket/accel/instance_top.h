@@ -1,11 +1,14 @@
 #pragma once
 /// The top level of an instanced structure (accel/instances.h): an 8-wide bvh8 tree built with
 /// binned SAH over the instances' world boxes, one instance per leaf, traversed by bvh8's own
-/// SIMD kernels with callback leaves. A leaf carries the world ray into its instance's space and
+/// SIMD kernels with callback leaves, in uncompressed nodes. A leaf carries the world ray into its instance's space and
 /// calls the bottom level: a triangle `bvh8` directly through its kernel (no virtual call, no
 /// wrapper), any other structure through Accel. Empty instances (empty world box) are left out.
 ///
-/// Tried and dropped: one leaf per child of a bvh8 bottom's root (partial re-braiding, Benthin et
+/// Tried and dropped: compressed nodes (96 bytes instead of 256): a megabyte saved on the 10^4
+/// forest, 8% of its shadow rays' speed lost to decoding; a root box test before the kernel (the
+/// kernel's first node test answers the same question, so rays that enter paid it twice). And
+/// one leaf per child of a bvh8 bottom's root (partial re-braiding, Benthin et
 /// al. 2017) on the 10^4-instance forest: 8x the top level's leaves and a kernel set-up per part
 /// entered, half the primary rays per second.
 #include <cstddef>
@@ -16,7 +19,6 @@
 
 #include "thicket/accel/accel.h"
 #include "thicket/bvh8/build.h"
-#include "thicket/bvh8/compress.h"
 #include "thicket/bvh8/node.h"
 #include "thicket/scene/instance.h"
 #include "thicket/scene/scene.h"
@@ -36,10 +38,10 @@ struct InstanceBottom {
 /// virtual Accel entries.
 InstanceBottom instance_bottom(const Accel& accel);
 
-/// What a leaf needs of one instance, in one cache line: the inverse transform, the flattened id
-/// of its first primitive and which bottom level it places.
+/// What a leaf needs of one instance, in one cache line: the map of world rays into its space,
+/// the flattened id of its first primitive and which bottom level it places.
 struct alignas(64) InstanceLeaf {
-    Affine inverse;
+    RayToInstance to_local;
     uint32_t flat_first = 0;
     uint32_t bottom = 0;  ///< index into the bottoms given to InstanceTop
 };
@@ -62,15 +64,12 @@ public:
     bool any(const Ray& ray, RayCounters* counters) const;
 
     Aabb bounds() const { return tree_.bounds; }
-    size_t node_count() const { return tree_.nodes.size() + qnodes_.size(); }
+    size_t node_count() const { return tree_.nodes.size(); }
     size_t bytes() const {
-        return tree_.nodes.size() * sizeof(bvh8::Node) + qnodes_.size() * sizeof(bvh8::QNode) +
-               ids_.size() * sizeof(uint32_t) +
+        return tree_.nodes.size() * sizeof(bvh8::Node) + ids_.size() * sizeof(uint32_t) +
                leaves_.size() * sizeof(InstanceLeaf) + bottoms_.size() * sizeof(InstanceBottom);
     }
-    /// The tree's figures (its nodes are empty when compressed: qnodes()).
     const bvh8::Tree& tree() const { return tree_; }
-    const bvh8::QNodes& qnodes() const { return qnodes_; }
 
     /// What the leaf callbacks read (ctx.prims points at one): the leaves' records in the slots
     /// of the tree's leaf storage (a callback's ids - ids), the bottoms, and the counters of a
@@ -83,13 +82,10 @@ public:
     };
 
 private:
-    bool enters(const Ray& ray) const;
-
     std::vector<InstanceLeaf> leaves_;  ///< in ids_' order once built (a slot per leaf entry)
     std::vector<InstanceBottom> bottoms_;
     std::vector<uint32_t> ids_;  ///< the leaves' instance ids, as the tree's leaves list them
     bvh8::Tree tree_;
-    bvh8::QNodes qnodes_;  ///< the nodes rays see when compressed (tree_.nodes then empty)
     const bvh8::KernelTable* kernels_ = nullptr;
     View view_{};
     bvh8::TraceContext ctx_;
