@@ -35,7 +35,7 @@ bool hits_agree(const Hit& reference, const Hit& candidate, const TieCheck& tie_
 }
 
 Agreement compare_hits(std::span<const Hit> reference, std::span<const Hit> candidate,
-                       std::span<const uint32_t> index, const TieCheck& tie_is_real) {
+                       std::span<const uint32_t> index, const TieCheck& tie_is_real, const HitArbiter& arbiter) {
     check_sizes(reference.size(), candidate.size(), index.size());
     Agreement a;
     a.rays = candidate.size();
@@ -43,6 +43,10 @@ Agreement compare_hits(std::span<const Hit> reference, std::span<const Hit> cand
         const Hit& ref = reference[reference_index(index, i, reference.size())];
         const Hit& c = candidate[i];
         if (!hits_agree(ref, c, tie_is_real, i)) {
+            if (arbiter && arbiter(i, ref, c)) {
+                ++a.agreeing, ++a.arbitrated;  // right within rounding; its distance is not the rule's
+                continue;
+            }
             if (a.first_mismatch == std::numeric_limits<size_t>::max()) a.first_mismatch = i;
             continue;  // counted as a disagreement: its distance says nothing about precision
         }
@@ -59,7 +63,7 @@ Agreement compare_hits(std::span<const Hit> reference, std::span<const Hit> cand
 }
 
 Agreement compare_occlusion(std::span<const uint8_t> reference, std::span<const uint8_t> candidate,
-                            std::span<const uint32_t> index) {
+                            std::span<const uint32_t> index, const FlagArbiter& arbiter) {
     check_sizes(reference.size(), candidate.size(), index.size());
     Agreement a;
     a.rays = candidate.size();
@@ -67,6 +71,8 @@ Agreement compare_occlusion(std::span<const uint8_t> reference, std::span<const 
         const bool ref = reference[reference_index(index, i, reference.size())] != 0;
         if (ref == (candidate[i] != 0))
             ++a.agreeing;
+        else if (arbiter && arbiter(i))
+            ++a.agreeing, ++a.arbitrated;
         else if (a.first_mismatch == std::numeric_limits<size_t>::max())
             a.first_mismatch = i;
     }

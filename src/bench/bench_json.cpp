@@ -74,10 +74,13 @@ std::string bench_rows_json(std::span<const BenchRow> rows) {
         o.optional("prims_per_ray", r.prims_per_ray);
         o.number("hit_rate", r.hit_rate);
         o.optional("agree", r.agree);
-        if (r.agree)
+        if (r.agree) {
             o.integer("disagreeing", r.disagreeing);
-        else
+            o.integer("arbitrated", r.arbitrated);
+        } else {
             o.raw("disagreeing", "null");
+            o.raw("arbitrated", "null");
+        }
         o.optional("max_dt", r.max_dt);
         o.optional("max_dt_rel", r.max_dt_rel);
         o.close();

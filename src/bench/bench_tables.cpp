@@ -32,10 +32,11 @@ std::string bytes_text(double bytes) {
 
 std::string agree_text(const BenchRow& r) {
     if (!r.agree) return "-";
-    if (r.disagreeing == 0) return "100";
+    const std::string settled = r.arbitrated ? " [" + grouped(r.arbitrated) + "]" : "";
+    if (r.disagreeing == 0) return "100" + settled;
     // Never round a disagreement up to "100".
     const double shown = std::min(*r.agree, 99.999);
-    return printf_string(shown >= 99.0 ? "%.3f" : "%.2f", shown) + " (" + grouped(r.disagreeing) + ")";
+    return printf_string(shown >= 99.0 ? "%.3f" : "%.2f", shown) + " (" + grouped(r.disagreeing) + ")" + settled;
 }
 
 std::string speed_text(const BenchRow& r) {
@@ -210,8 +211,10 @@ std::string scene_section(const SceneRows& scene, TableStyle style) {
     if (have_agree)
         notes.push_back("agree: % of rays answered like embree-high (same miss, same primitive, or same t within " +
                         printf_string("%g", kTieTolerance) + " relative; any-hit: same flag), the number that "
-                        "differ in parentheses; max dt rel: largest relative t difference among the rays that agree "
-                        "and hit.");
+                        "differ in parentheses; in brackets, rays whose answers differ but double-precision "
+                        "arithmetic shows this structure's right within float rounding (an edge ray, or a hit "
+                        "embree-high missed: BENCHMARKS.md, \"Agreement\"), counted as agreeing; max dt rel: largest "
+                        "relative t difference among the rays that agree by the first rule and hit.");
     else
         notes.push_back("agree: no Embree reference in this run, so no ray-for-ray comparison.");
     out += "\n";

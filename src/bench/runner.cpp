@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "thicket/bench/agreement.h"
+#include "thicket/bench/arbiter.h"
 #include "thicket/bench/primitive_probe.h"
 #include "thicket/bench/timing.h"
 #include "thicket/core/error.h"
@@ -171,6 +172,8 @@ std::vector<BenchRow> bench_scene(const Scene& scene, const std::string& label, 
     // A structure naming another primitive than the reference must really hit it there: probed
     // alone with either triangle test, the primitive gives exactly the reported t, u, v.
     const PrimitiveProbe moller(scene, "moller"), watertight(scene, "watertight");
+    // A ray the rule still rejects is settled in double precision (bench/arbiter.h).
+    const RoundingArbiter arbiter(scene);
     ReferenceAnswers reference;
     std::unique_ptr<Tracer> reference_tracer;  // kept to pair every later row's passes with
     std::vector<BenchRow> rows;
@@ -247,12 +250,28 @@ std::vector<BenchRow> bench_scene(const Scene& scene, const std::string& label, 
                         return identical_hits(moller.hit(h.prim, traced[i]), h) ||
                                identical_hits(watertight.hit(h.prim, traced[i]), h);
                     };
+                    const HitArbiter settle_hits = [&](size_t i, const Hit& r, const Hit& c) {
+                        return arbiter.candidate_within_rounding(traced[i], r, c);
+                    };
+                    // Flags name no primitive: both structures' closest hits within the ray's
+                    // interval stand for them.
+                    const FlagArbiter settle_flags = [&](size_t i) {
+                        const std::span<const Ray> one(&traced[i], 1);
+                        Hit r, c;
+                        reference_tracer->trace(one, std::span<Hit>(&r, 1), 1, false);
+                        tracer->trace(one, std::span<Hit>(&c, 1), 1, false);
+                        return arbiter.candidate_within_rounding(traced[i], r, c);
+                    };
+                    const bool arbitrate = !is_reference && reference_tracer;
                     const Agreement a =
-                        set.any_hit ? compare_occlusion(reference.flags[s], flags, rr.index)
+                        set.any_hit ? compare_occlusion(reference.flags[s], flags, rr.index,
+                                                        arbitrate ? settle_flags : FlagArbiter())
                                     : compare_hits(reference.hits[s], hits, rr.index,
-                                                   tracer->hits_from_thicket_tests() ? tie_is_real : TieCheck());
+                                                   tracer->hits_from_thicket_tests() ? tie_is_real : TieCheck(),
+                                                   arbitrate ? settle_hits : HitArbiter());
                     row.agree = a.percent();
                     row.disagreeing = a.disagreeing();
+                    row.arbitrated = a.arbitrated;
                     if (!set.any_hit) {
                         row.max_dt = a.max_dt;
                         row.max_dt_rel = a.max_dt_rel;

@@ -6,8 +6,10 @@
 /// at the same distance within kTieTolerance relative: a tie, where two primitives meet (a shared
 /// edge, coplanar overlaps) and either answer is right, provided the named primitive really is hit
 /// there (the TieCheck, when the candidate's hits come from Thicket's own tests). Two any-hit
-/// answers agree when both flags are equal. The largest t difference over the agreeing rays is
-/// reported as well.
+/// answers agree when both flags are equal. A ray that fails this rule still agrees when an arbiter
+/// (the bench's RoundingArbiter, bench/arbiter.h) shows the candidate's answer right within float
+/// rounding (an edge ray, or a hit the reference missed); such rays are counted apart. The
+/// largest t difference over the agreeing rays is reported as well.
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -28,9 +30,16 @@ inline constexpr double kSamePrimitiveTolerance = 1e-3;
 /// a hit of the primitive it names: probing that primitive alone gives its t, u, v.
 using TieCheck = std::function<bool(size_t ray, const Hit& candidate)>;
 
+/// Whether the candidate's answer on ray `ray` is right within rounding where it disagrees with
+/// the reference's by the rule above.
+using HitArbiter = std::function<bool(size_t ray, const Hit& reference, const Hit& candidate)>;
+/// The same for any-hit answers: the flags differ on ray `ray`.
+using FlagArbiter = std::function<bool(size_t ray)>;
+
 struct Agreement {
     size_t rays = 0;
     size_t agreeing = 0;
+    size_t arbitrated = 0;  ///< of the agreeing rays, those only the arbiter accepted
     double max_dt = 0.0;      ///< largest |t - t_ref| over agreeing rays where both hit
     double max_dt_rel = 0.0;  ///< largest |t - t_ref| / max(|t|, |t_ref|) over the same rays
     size_t first_mismatch = std::numeric_limits<size_t>::max();  ///< index of the first disagreement
@@ -46,11 +55,12 @@ bool hits_agree(const Hit& reference, const Hit& candidate, const TieCheck& tie_
 
 /// Compares closest-hit answers ray by ray; candidate[i] is compared with reference[index[i]]
 /// when `index` is given (a sample of the reference's rays), else with reference[i]. Sizes must
-/// match (throws Error otherwise).
+/// match (throws Error otherwise). `arbiter`, when given, is asked about every ray the rule rejects.
 Agreement compare_hits(std::span<const Hit> reference, std::span<const Hit> candidate,
-                       std::span<const uint32_t> index = {}, const TieCheck& tie_is_real = {});
+                       std::span<const uint32_t> index = {}, const TieCheck& tie_is_real = {},
+                       const HitArbiter& arbiter = {});
 /// The same for any-hit answers (0 or 1 per ray).
 Agreement compare_occlusion(std::span<const uint8_t> reference, std::span<const uint8_t> candidate,
-                            std::span<const uint32_t> index = {});
+                            std::span<const uint32_t> index = {}, const FlagArbiter& arbiter = {});
 
 }  // namespace thicket

@@ -45,6 +45,7 @@ struct BenchRow {
 
     std::optional<double> agree;       ///< percent of rays agreeing with Embree-high
     size_t disagreeing = 0;
+    size_t arbitrated = 0;  ///< rays counted as agreeing only because RoundingArbiter accepted them
     std::optional<double> max_dt, max_dt_rel;  ///< largest t difference to Embree-high where they agree
 
     double bytes_per_primitive() const { return primitives ? double(bytes) / double(primitives) : 0.0; }

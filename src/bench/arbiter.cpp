@@ -1,0 +1,162 @@
+#include "thicket/bench/arbiter.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "thicket/scene/instance.h"
+
+namespace thicket {
+
+namespace {
+
+struct D3 {
+    double x, y, z;
+};
+D3 sub(const D3& a, const D3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+D3 add(const D3& a, const D3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+D3 mul(const D3& a, double s) { return {a.x * s, a.y * s, a.z * s}; }
+double dot(const D3& a, const D3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+D3 cross(const D3& a, const D3& b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+double norm(const D3& a) { return std::sqrt(dot(a, a)); }
+D3 of(Vec3 v) { return {v.x, v.y, v.z}; }
+D3 of(const double (&v)[3]) { return {v[0], v[1], v[2]}; }
+
+/// Distance from p to triangle abc (closest point by Voronoi regions, Ericson 2005, 5.1.5).
+double point_triangle_distance(const D3& p, const D3& a, const D3& b, const D3& c) {
+    const D3 ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
+    const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+    if (d1 <= 0 && d2 <= 0) return norm(ap);
+    const D3 bp = sub(p, b);
+    const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+    if (d3 >= 0 && d4 <= d3) return norm(bp);
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) return norm(sub(p, add(a, mul(ab, d1 / (d1 - d3)))));
+    const D3 cp = sub(p, c);
+    const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+    if (d6 >= 0 && d5 <= d6) return norm(cp);
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) return norm(sub(p, add(a, mul(ac, d2 / (d2 - d6)))));
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+        return norm(sub(p, add(b, mul(sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6))))));
+    const double denom = 1.0 / (va + vb + vc);
+    return norm(sub(p, add(a, add(mul(ab, vb * denom), mul(ac, vc * denom)))));
+}
+
+/// Distance from the 2D origin to the segment pq.
+double origin_segment_distance(double px, double py, double qx, double qy) {
+    const double ex = qx - px, ey = qy - py, len2 = ex * ex + ey * ey;
+    const double s = len2 > 0 ? std::clamp(-(px * ex + py * ey) / len2, 0.0, 1.0) : 0.0;
+    return std::hypot(px + s * ex, py + s * ey);
+}
+
+/// How far the ray through o along d may move sideways and still cross triangle v (> 0), or how
+/// far it misses it (< 0): the triangle projected onto the plane across the ray, where the ray is
+/// the origin.
+double sideways_depth(const D3& o, const D3& d, const D3 (&v)[3]) {
+    const D3 n = mul(d, 1.0 / norm(d));
+    // Of the axes, the one least along the ray gives a well-conditioned first basis vector.
+    const D3 axis = std::fabs(n.x) <= std::fabs(n.y) && std::fabs(n.x) <= std::fabs(n.z) ? D3{1, 0, 0}
+                    : std::fabs(n.y) <= std::fabs(n.z)                                  ? D3{0, 1, 0}
+                                                                                        : D3{0, 0, 1};
+    D3 e1 = cross(n, axis);
+    e1 = mul(e1, 1.0 / norm(e1));
+    const D3 e2 = cross(n, e1);
+    double x[3], y[3];
+    for (int i = 0; i < 3; ++i) {
+        const D3 r = sub(v[i], o);
+        x[i] = dot(r, e1);
+        y[i] = dot(r, e2);
+    }
+    double nearest = INFINITY;
+    int positive = 0, negative = 0;
+    for (int i = 0; i < 3; ++i) {
+        const int j = (i + 1) % 3;
+        nearest = std::min(nearest, origin_segment_distance(x[i], y[i], x[j], y[j]));
+        // Which side of edge ij the origin lies on.
+        const double side = (x[j] - x[i]) * (0.0 - y[i]) - (y[j] - y[i]) * (0.0 - x[i]);
+        positive += side > 0;
+        negative += side < 0;
+    }
+    const bool inside = positive == 3 || negative == 3;
+    return inside ? nearest : -nearest;
+}
+
+}  // namespace
+
+RoundingArbiter::RoundingArbiter(const Scene& scene) : scene_(scene) {}
+
+std::optional<RoundingArbiter::Triangle> RoundingArbiter::triangle(uint32_t prim) const {
+    const Instance* instance = nullptr;
+    uint32_t scene_prim = prim;
+    if (!scene_.instances.empty()) {
+        if (scene_.instance_first.size() != scene_.instances.size() + 1 || prim >= scene_.instanced_primitive_count())
+            return std::nullopt;
+        const auto it = std::upper_bound(scene_.instance_first.begin(), scene_.instance_first.end(), uint64_t(prim));
+        const size_t i = size_t(it - scene_.instance_first.begin()) - 1;
+        instance = &scene_.instances[i];
+        scene_prim = scene_.geometry(instance->geometry).first + uint32_t(prim - scene_.instance_first[i]);
+    }
+    if (scene_prim >= scene_.primitive_count()) return std::nullopt;
+    const PrimRef ref = scene_.locate(scene_prim);
+    if (ref.shape) return std::nullopt;
+    Triangle tri;
+    tri.scale = 1.0;
+    for (int c = 0; c < 3; ++c) {
+        const Vec3 p = scene_.mesh.vertex(ref.index, c);
+        const double local[3] = {p.x, p.y, p.z};
+        for (int a = 0; a < 3; ++a) {
+            if (!instance) {
+                tri.v[c][a] = local[a];
+                continue;
+            }
+            const auto& m = instance->transform.m[a];
+            tri.v[c][a] = double(m[0]) * local[0] + double(m[1]) * local[1] + double(m[2]) * local[2] + double(m[3]);
+        }
+    }
+    if (instance) tri.scale = std::max(1.0, transform_condition(instance->transform) / 3.0);
+    return tri;
+}
+
+RoundingArbiter::Verdict RoundingArbiter::judge(const Ray& ray, uint32_t prim, double t_asked) const {
+    Verdict out;
+    const std::optional<Triangle> tri = triangle(prim);
+    if (!tri) return out;
+    out.triangle = true;
+    const D3 o = of(ray.org), d = of(ray.dir);
+    const D3 v[3] = {of(tri->v[0]), of(tri->v[1]), of(tri->v[2])};
+    const D3 normal = cross(sub(v[1], v[0]), sub(v[2], v[0]));
+    const double facing = dot(normal, d);
+    out.t = facing != 0.0 ? dot(normal, sub(v[0], o)) / facing : NAN;
+    out.depth = sideways_depth(o, d, v);
+    out.point_distance = point_triangle_distance(add(o, mul(d, t_asked)), v[0], v[1], v[2]);
+    const double reach = std::max({std::fabs(o.x), std::fabs(o.y), std::fabs(o.z)}) +
+                         std::fabs(t_asked) * std::max({std::fabs(d.x), std::fabs(d.y), std::fabs(d.z)});
+    out.delta = kArbiterUlps * 0x1p-24 * reach * tri->scale;
+    return out;
+}
+
+bool RoundingArbiter::possible(const Ray& ray, const Hit& hit) const {
+    const Verdict v = judge(ray, hit.prim, hit.t);
+    return v.triangle && v.point_distance <= v.delta;
+}
+
+bool RoundingArbiter::certain(const Ray& ray, uint32_t prim) const {
+    const Verdict probe = judge(ray, prim, 0.0);
+    if (!probe.triangle || !std::isfinite(probe.t)) return false;
+    const Verdict v = judge(ray, prim, probe.t);
+    const double along = norm(of(ray.dir));
+    return v.depth > v.delta && (v.t - double(ray.tmin)) * along > v.delta &&
+           (double(ray.tmax) - v.t) * along > v.delta;
+}
+
+bool RoundingArbiter::candidate_within_rounding(const Ray& ray, const Hit& reference, const Hit& candidate) const {
+    if ((reference.found() && !triangle(reference.prim)) || (candidate.found() && !triangle(candidate.prim)))
+        return false;
+    if (candidate.found() && !possible(ray, candidate)) return false;
+    const bool reference_nearer = reference.found() && (!candidate.found() || reference.t < candidate.t);
+    if (reference_nearer && reference.prim != candidate.prim && certain(ray, reference.prim)) return false;
+    return true;
+}
+
+}  // namespace thicket
