@@ -1,16 +1,16 @@
 #pragma once
 /// The top level of an instanced structure (accel/instances.h): an 8-wide bvh8 tree built with
-/// binned SAH over the instances' world boxes, one instance per leaf, traversed by bvh8's own
-/// SIMD kernels with callback leaves, in uncompressed nodes. A leaf carries the world ray into its instance's space and
-/// calls the bottom level: a triangle `bvh8` directly through its kernel (no virtual call, no
-/// wrapper), any other structure through Accel. Empty instances (empty world box) are left out.
+/// binned SAH over the instances' world boxes, one instance per leaf, in uncompressed nodes,
+/// traversed by bvh8's own SIMD kernels with callback leaves. A leaf carries the world ray into
+/// its instance's space and calls the bottom level: a triangle `bvh8` directly through its kernel
+/// (no virtual call, no wrapper), any other structure through Accel. Empty instances (empty world
+/// box) are left out.
 ///
 /// Tried and dropped: compressed nodes (96 bytes instead of 256): a megabyte saved on the 10^4
 /// forest, 8% of its shadow rays' speed lost to decoding; a root box test before the kernel (the
-/// kernel's first node test answers the same question, so rays that enter paid it twice). And
-/// one leaf per child of a bvh8 bottom's root (partial re-braiding, Benthin et
-/// al. 2017) on the 10^4-instance forest: 8x the top level's leaves and a kernel set-up per part
-/// entered, half the primary rays per second.
+/// kernel's first node test answers the same question, so rays that enter paid it twice); one
+/// leaf per child of a bvh8 bottom's root (partial re-braiding, Benthin et al. 2017): 8x the top
+/// level's leaves and a kernel set-up per part entered, half the primary rays per second.
 #include <cstddef>
 #include <cstdint>
 #include <memory>
