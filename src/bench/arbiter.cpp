@@ -3,44 +3,33 @@
 #include <algorithm>
 #include <cmath>
 
+#include "thicket/core/vec3d.h"
 #include "thicket/scene/instance.h"
 
 namespace thicket {
 
 namespace {
 
-struct D3 {
-    double x, y, z;
-};
-D3 sub(const D3& a, const D3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-D3 add(const D3& a, const D3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-D3 mul(const D3& a, double s) { return {a.x * s, a.y * s, a.z * s}; }
-double dot(const D3& a, const D3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-D3 cross(const D3& a, const D3& b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-double norm(const D3& a) { return std::sqrt(dot(a, a)); }
-D3 of(Vec3 v) { return {v.x, v.y, v.z}; }
-D3 of(const double (&v)[3]) { return {v[0], v[1], v[2]}; }
-
 /// Distance from p to triangle abc (closest point by Voronoi regions, Ericson 2005, 5.1.5).
-double point_triangle_distance(const D3& p, const D3& a, const D3& b, const D3& c) {
-    const D3 ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
+double point_triangle_distance(const Vec3d& p, const Vec3d& a, const Vec3d& b, const Vec3d& c) {
+    const Vec3d ab = b - a, ac = c - a, ap = p - a;
     const double d1 = dot(ab, ap), d2 = dot(ac, ap);
-    if (d1 <= 0 && d2 <= 0) return norm(ap);
-    const D3 bp = sub(p, b);
+    if (d1 <= 0 && d2 <= 0) return length(ap);
+    const Vec3d bp = p - b;
     const double d3 = dot(ab, bp), d4 = dot(ac, bp);
-    if (d3 >= 0 && d4 <= d3) return norm(bp);
+    if (d3 >= 0 && d4 <= d3) return length(bp);
     const double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0) return norm(sub(p, add(a, mul(ab, d1 / (d1 - d3)))));
-    const D3 cp = sub(p, c);
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) return length(p - (a + ab * (d1 / (d1 - d3))));
+    const Vec3d cp = p - c;
     const double d5 = dot(ab, cp), d6 = dot(ac, cp);
-    if (d6 >= 0 && d5 <= d6) return norm(cp);
+    if (d6 >= 0 && d5 <= d6) return length(cp);
     const double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0 && d2 >= 0 && d6 <= 0) return norm(sub(p, add(a, mul(ac, d2 / (d2 - d6)))));
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) return length(p - (a + ac * (d2 / (d2 - d6))));
     const double va = d3 * d6 - d5 * d4;
     if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
-        return norm(sub(p, add(b, mul(sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6))))));
+        return length(p - (b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)))));
     const double denom = 1.0 / (va + vb + vc);
-    return norm(sub(p, add(a, add(mul(ab, vb * denom), mul(ac, vc * denom)))));
+    return length(p - (a + ab * (vb * denom) + ac * (vc * denom)));
 }
 
 /// Distance from the 2D origin to the segment pq.
@@ -53,18 +42,17 @@ double origin_segment_distance(double px, double py, double qx, double qy) {
 /// How far the ray through o along d may move sideways and still cross triangle v (> 0), or how
 /// far it misses it (< 0): the triangle projected onto the plane across the ray, where the ray is
 /// the origin.
-double sideways_depth(const D3& o, const D3& d, const D3 (&v)[3]) {
-    const D3 n = mul(d, 1.0 / norm(d));
+double sideways_depth(const Vec3d& o, const Vec3d& d, const Vec3d (&v)[3]) {
+    const Vec3d n = normalize(d);
     // Of the axes, the one least along the ray gives a well-conditioned first basis vector.
-    const D3 axis = std::fabs(n.x) <= std::fabs(n.y) && std::fabs(n.x) <= std::fabs(n.z) ? D3{1, 0, 0}
-                    : std::fabs(n.y) <= std::fabs(n.z)                                  ? D3{0, 1, 0}
-                                                                                        : D3{0, 0, 1};
-    D3 e1 = cross(n, axis);
-    e1 = mul(e1, 1.0 / norm(e1));
-    const D3 e2 = cross(n, e1);
+    const Vec3d axis = std::fabs(n.x) <= std::fabs(n.y) && std::fabs(n.x) <= std::fabs(n.z) ? Vec3d{1, 0, 0}
+                       : std::fabs(n.y) <= std::fabs(n.z)                                  ? Vec3d{0, 1, 0}
+                                                                                           : Vec3d{0, 0, 1};
+    const Vec3d e1 = normalize(cross(n, axis));
+    const Vec3d e2 = cross(n, e1);
     double x[3], y[3];
     for (int i = 0; i < 3; ++i) {
-        const D3 r = sub(v[i], o);
+        const Vec3d r = v[i] - o;
         x[i] = dot(r, e1);
         y[i] = dot(r, e2);
     }
@@ -101,21 +89,26 @@ std::optional<RoundingArbiter::Triangle> RoundingArbiter::triangle(uint32_t prim
     const PrimRef ref = scene_.locate(scene_prim);
     if (ref.shape) return std::nullopt;
     Triangle tri;
-    tri.scale = 1.0;
     for (int c = 0; c < 3; ++c) {
-        const Vec3 p = scene_.mesh.vertex(ref.index, c);
-        const double local[3] = {p.x, p.y, p.z};
+        const Vec3d p(scene_.mesh.vertex(ref.index, c));
+        if (!instance) {
+            tri.v[c] = p;
+            continue;
+        }
         for (int a = 0; a < 3; ++a) {
-            if (!instance) {
-                tri.v[c][a] = local[a];
-                continue;
-            }
             const auto& m = instance->transform.m[a];
-            tri.v[c][a] = double(m[0]) * local[0] + double(m[1]) * local[1] + double(m[2]) * local[2] + double(m[3]);
+            tri.v[c][a] = double(m[0]) * p.x + double(m[1]) * p.y + double(m[2]) * p.z + double(m[3]);
         }
     }
     if (instance) tri.scale = std::max(1.0, transform_condition(instance->transform) / 3.0);
     return tri;
+}
+
+double RoundingArbiter::delta(const Ray& ray, double t, double scale) {
+    const Vec3d o(ray.org), d(ray.dir);
+    const double reach = std::max({std::fabs(o.x), std::fabs(o.y), std::fabs(o.z)}) +
+                         std::fabs(t) * std::max({std::fabs(d.x), std::fabs(d.y), std::fabs(d.z)});
+    return kArbiterUlps * 0x1p-24 * reach * scale;
 }
 
 RoundingArbiter::Verdict RoundingArbiter::judge(const Ray& ray, uint32_t prim, double t_asked) const {
@@ -123,16 +116,14 @@ RoundingArbiter::Verdict RoundingArbiter::judge(const Ray& ray, uint32_t prim, d
     const std::optional<Triangle> tri = triangle(prim);
     if (!tri) return out;
     out.triangle = true;
-    const D3 o = of(ray.org), d = of(ray.dir);
-    const D3 v[3] = {of(tri->v[0]), of(tri->v[1]), of(tri->v[2])};
-    const D3 normal = cross(sub(v[1], v[0]), sub(v[2], v[0]));
+    const Vec3d o(ray.org), d(ray.dir);
+    const Vec3d normal = cross(tri->v[1] - tri->v[0], tri->v[2] - tri->v[0]);
     const double facing = dot(normal, d);
-    out.t = facing != 0.0 ? dot(normal, sub(v[0], o)) / facing : NAN;
-    out.depth = sideways_depth(o, d, v);
-    out.point_distance = point_triangle_distance(add(o, mul(d, t_asked)), v[0], v[1], v[2]);
-    const double reach = std::max({std::fabs(o.x), std::fabs(o.y), std::fabs(o.z)}) +
-                         std::fabs(t_asked) * std::max({std::fabs(d.x), std::fabs(d.y), std::fabs(d.z)});
-    out.delta = kArbiterUlps * 0x1p-24 * reach * tri->scale;
+    out.t = facing != 0.0 ? dot(normal, tri->v[0] - o) / facing : NAN;
+    out.depth = sideways_depth(o, d, tri->v);
+    out.point_distance = point_triangle_distance(o + d * t_asked, tri->v[0], tri->v[1], tri->v[2]);
+    out.delta = delta(ray, t_asked, tri->scale);
+    out.scale = tri->scale;
     return out;
 }
 
@@ -142,12 +133,11 @@ bool RoundingArbiter::possible(const Ray& ray, const Hit& hit) const {
 }
 
 bool RoundingArbiter::certain(const Ray& ray, uint32_t prim) const {
-    const Verdict probe = judge(ray, prim, 0.0);
-    if (!probe.triangle || !std::isfinite(probe.t)) return false;
-    const Verdict v = judge(ray, prim, probe.t);
-    const double along = norm(of(ray.dir));
-    return v.depth > v.delta && (v.t - double(ray.tmin)) * along > v.delta &&
-           (double(ray.tmax) - v.t) * along > v.delta;
+    const Verdict v = judge(ray, prim, 0.0);  // t and depth do not depend on the point asked
+    if (!v.triangle || !std::isfinite(v.t)) return false;
+    const double slack = delta(ray, v.t, v.scale);
+    const double along = length(Vec3d(ray.dir));
+    return v.depth > slack && (v.t - double(ray.tmin)) * along > slack && (double(ray.tmax) - v.t) * along > slack;
 }
 
 bool RoundingArbiter::candidate_within_rounding(const Ray& ray, const Hit& reference, const Hit& candidate) const {

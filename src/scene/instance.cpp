@@ -128,10 +128,7 @@ bool place_instanced_hit(const Scene& scene, const Ray& ray, const Hit& hit, Ins
     place.placed = true;
     place.inverse = checked_inverse(inst.transform, "instance " + std::to_string(i));
     place.mirrored = transform_determinant(inst.transform) < 0.0;
-    const RayToInstance to_local = ray_to_instance(inst.transform, place.inverse);
-    place.ray = ray;
-    place.ray.org = to_local.point(ray.org);
-    place.ray.dir = to_local.vector(ray.dir);
+    place.ray = ray_to_instance(inst.transform, place.inverse).ray(ray, ray.tmax);
     place.hit = hit;
     place.hit.prim = scene.geometry(inst.geometry).first + uint32_t(hit.prim - scene.instance_first[i]);
     return true;

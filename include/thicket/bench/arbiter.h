@@ -22,6 +22,7 @@
 #include <optional>
 
 #include "thicket/core/ray.h"
+#include "thicket/core/vec3d.h"
 #include "thicket/scene/scene.h"
 
 namespace thicket {
@@ -47,6 +48,7 @@ public:
         double depth = 0.0;     ///< how far sideways the ray may move and still cross it (< 0: misses by that much)
         double point_distance = 0.0;  ///< distance of org + t_asked * dir from the triangle
         double delta = 0.0;           ///< delta(t) at t_asked
+        double scale = 1.0;           ///< max(1, cond / 3) of the triangle's instance
     };
     /// The exact meeting of `ray` and primitive `prim`, with the point at `t_asked`.
     Verdict judge(const Ray& ray, uint32_t prim, double t_asked) const;
@@ -58,10 +60,12 @@ public:
 
 private:
     struct Triangle {
-        double v[3][3];
-        double scale;  ///< max(1, cond / 3) of its instance's transform, 1 without instances
+        Vec3d v[3];          ///< in the world, in double
+        double scale = 1.0;  ///< max(1, cond / 3) of its instance's transform, 1 without instances
     };
     std::optional<Triangle> triangle(uint32_t prim) const;
+    /// delta(t) of the rule above for a triangle of that scale.
+    static double delta(const Ray& ray, double t, double scale);
 
     const Scene& scene_;
 };

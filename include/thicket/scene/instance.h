@@ -1,6 +1,6 @@
 #pragma once
 /// Instances: a geometry of a scene placed again under an affine transform (two-level
-/// instancing, accel/instances.h). Plain records, so that a Scene can carry them (JSON scenes'
+/// instancing, instances/instances.h). Plain records, so that a Scene can carry them (JSON scenes'
 /// `instances`) without depending on the structures.
 #include <cstdint>
 #include <string>
@@ -66,6 +66,8 @@ struct RayToInstance {
     float inverse[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};  ///< A^-1
     Vec3 offset;                                               ///< b
 
+    /// The world ray in the instance's space over [ray.tmin, tmax]: t keeps its meaning.
+    Ray ray(const Ray& world, float tmax) const { return Ray{point(world.org), world.tmin, vector(world.dir), tmax}; }
     Vec3 point(Vec3 p) const { return vector(p - offset); }
     Vec3 vector(Vec3 v) const {
         return {inverse[0][0] * v.x + inverse[0][1] * v.y + inverse[0][2] * v.z,
