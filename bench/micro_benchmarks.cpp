@@ -187,13 +187,13 @@ BENCHMARK(BM_BvhAnyHitShadow);
 // ---- bvh8: its node and leaf kernels under each ISA, and whole queries ---------------------
 // The argument is the ISA level (0 scalar, 1 sse, 2 avx2, 3 avx512); levels the CPU lacks skip.
 
-bool use_isa(benchmark::State& state, bvh8::Isa& isa) {
-    isa = bvh8::Isa(state.range(0));
-    if (isa > bvh8::cpu_best_isa()) {
+bool use_isa(benchmark::State& state, Isa& isa) {
+    isa = Isa(state.range(0));
+    if (isa > cpu_best_isa()) {
         state.SkipWithError("the CPU lacks this ISA");
         return false;
     }
-    state.SetLabel(bvh8::isa_name(isa));
+    state.SetLabel(isa_name(isa));
     return true;
 }
 
@@ -216,7 +216,7 @@ AlignedVector<bvh8::Node, 64> random_nodes() {
 }
 
 void BM_Bvh8NodeTest(benchmark::State& state) {
-    bvh8::Isa isa;
+    Isa isa;
     if (!use_isa(state, isa)) return;
     const auto test = bvh8::kernels_for(isa).node_test;
     const AlignedVector<bvh8::Node, 64> nodes = random_nodes();
@@ -235,7 +235,7 @@ BENCHMARK(BM_Bvh8NodeTest)->DenseRange(0, 3);
 // The same nodes and rays through the traversal's slab test: one multiply-add per plane against
 // the tree's plane bounds (docs/bvh8.md, "The slab test at one FMA per plane").
 void BM_Bvh8NodeTestFma(benchmark::State& state) {
-    bvh8::Isa isa;
+    Isa isa;
     if (!use_isa(state, isa)) return;
     const auto test = bvh8::kernels_for(isa).node_test_fast;
     const AlignedVector<bvh8::Node, 64> nodes = random_nodes();
@@ -257,7 +257,7 @@ BENCHMARK(BM_Bvh8NodeTestFma)->DenseRange(0, 3);
 
 // One 4-triangle block: Moller-Trumbore on 4 lanes, bitwise the scalar test's results.
 void BM_Bvh8BlockTest(benchmark::State& state) {
-    bvh8::Isa isa;
+    Isa isa;
     if (!use_isa(state, isa)) return;
     const auto test = bvh8::kernels_for(isa).block_test;
     Pcg32 rng(8);
@@ -283,10 +283,10 @@ BENCHMARK(BM_Bvh8BlockTest)->DenseRange(0, 3);
 
 // Whole queries on the small scene, through the Accel interface as the bench calls them.
 void BM_Bvh8ClosestHit(benchmark::State& state) {
-    bvh8::Isa isa;
+    Isa isa;
     if (!use_isa(state, isa)) return;
     const auto& f = SmallSceneFixture::get();
-    const auto accel = build_accel(std::string("bvh8:isa=") + bvh8::isa_name(isa), f.scene);
+    const auto accel = build_accel(std::string("bvh8:isa=") + isa_name(isa), f.scene);
     const std::vector<Ray>& rays = f.sets[0].rays;
     size_t i = 0;
     for (auto _ : state) benchmark::DoNotOptimize(accel->intersect(rays[i++ % rays.size()]));
@@ -295,10 +295,10 @@ void BM_Bvh8ClosestHit(benchmark::State& state) {
 BENCHMARK(BM_Bvh8ClosestHit)->DenseRange(0, 3);
 
 void BM_Bvh8AnyHitShadow(benchmark::State& state) {
-    bvh8::Isa isa;
+    Isa isa;
     if (!use_isa(state, isa)) return;
     const auto& f = SmallSceneFixture::get();
-    const auto accel = build_accel(std::string("bvh8:isa=") + bvh8::isa_name(isa), f.scene);
+    const auto accel = build_accel(std::string("bvh8:isa=") + isa_name(isa), f.scene);
     const std::vector<Ray>& rays = f.sets[1].rays;
     size_t i = 0;
     for (auto _ : state) benchmark::DoNotOptimize(accel->occluded(rays[i++ % rays.size()]));

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "thicket/bvh8/isa.h"
+#include "thicket/core/isa.h"
 #include "thicket/core/error.h"
 #include "thicket/util/parallel.h"
 
@@ -41,16 +41,16 @@ void on_error(void* user, RTCError code, const char* message) {
 }
 
 /// Embree's name for the level THICKET_ISA caps bvh8 to ("" when it is unset): the level comes
-/// from bvh8's own reading of the variable (resolve_isa, which refuses a bad value with its
-/// message); Embree has no scalar kernels, so scalar and sse both give its SSE2 level.
+/// from the library's own reading of the variable (core/isa.h's resolve_isa, which refuses a bad
+/// value with its message); Embree has no scalar kernels, so scalar and sse both give its SSE2 level.
 std::string embree_isa_for_env() {
     const char* env = std::getenv("THICKET_ISA");
     if (!env || !*env) return "";
-    switch (bvh8::resolve_isa(bvh8::kAutoIsa)) {
-    case bvh8::Isa::Scalar:
-    case bvh8::Isa::Sse: return "sse2";
-    case bvh8::Isa::Avx2: return "avx2";
-    case bvh8::Isa::Avx512: return "avx512";
+    switch (resolve_isa(kAutoIsa, "bvh8")) {
+    case Isa::Scalar:
+    case Isa::Sse: return "sse2";
+    case Isa::Avx2: return "avx2";
+    case Isa::Avx512: return "avx512";
     }
     return "";
 }

@@ -9,7 +9,7 @@
 /// (accel/point_queries.h). The structures by name (one folder each) for users who build them
 /// directly, and the shape kernels a Scene can hold next to triangles (prims/shapes.h).
 #include "thicket/accel/accel.h"
-#include "thicket/accel/instances.h"
+#include "thicket/instances/instances.h"
 #include "thicket/accel/point_queries.h"
 #include "thicket/accel/ray_rows.h"
 #include "thicket/accel/registry.h"

@@ -14,7 +14,7 @@
 #include "arrays.h"
 #include "inputs.h"
 #include "queries.h"
-#include "thicket/accel/instances.h"
+#include "thicket/instances/instances.h"
 #include "thicket/core/error.h"
 #include "thicket/scene/instance.h"
 #include "thicket/scene/scene.h"

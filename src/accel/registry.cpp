@@ -1,7 +1,6 @@
 // The registry: every structure is listed here by its register function, explicitly, so that
 // no static-initialisation trick can be dropped by the linker.
 #include "thicket/accel/registry.h"
-#include "thicket/accel/instances.h"
 
 #include <algorithm>
 #include <chrono>
@@ -24,6 +23,9 @@ void register_bih(std::vector<AccelInfo>& registry);
 void register_bvh8(std::vector<AccelInfo>& registry);
 void register_obb(std::vector<AccelInfo>& registry);
 void register_tetra(std::vector<AccelInfo>& registry);
+// Instancing sits above the structures (instances/instances.h): the registry, below them, reaches
+// it by this declaration alone, as it reaches each structure's register function.
+std::unique_ptr<Accel> build_instanced(const Scene& scene, const AccelSpec& bottom);
 
 namespace {
 
@@ -251,7 +253,7 @@ std::unique_ptr<Accel> build_accel(const AccelSpec& parsed, const Scene& scene, 
     AccelSpec spec = parsed;
     spec.threads = threads;
     const auto start = std::chrono::steady_clock::now();
-    // A scene with instances is two levels: the spec is the bottom level's (accel/instances.h).
+    // A scene with instances is two levels: the spec is the bottom level's (instances/instances.h).
     std::unique_ptr<Accel> accel = scene.instances.empty() ? parsed.info->build(scene, spec) : build_instanced(scene, spec);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     accel->set_origin(spec.str(), ms);

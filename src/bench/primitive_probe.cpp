@@ -25,7 +25,7 @@ std::function<Hit(uint32_t, const Ray&)> probe_of(Prims prims) {
 PrimitiveProbe::PrimitiveProbe(const Scene& scene, const std::string& isect) : count_(scene.primitive_count()) {
     if (!scene.instances.empty()) {
         // Flattened ids: the prototype's primitive, probed with the ray in its instance's space,
-        // as the instanced structure tests it (accel/instances.h), so the answers are the same bits.
+        // as the instanced structure tests it (instances/instances.h), so the answers are the same bits.
         auto prototypes = std::make_shared<Scene>(scene);
         prototypes->instances.clear();
         prototypes->instance_first.clear();

@@ -27,23 +27,23 @@ Bvh8Options bvh8_options(const AccelSpec& spec) {
     o.binary.optimize_passes = int(spec.get_int("passes"));
     read_sbvh_options(spec, o.binary);
     o.merge_below = uint32_t(spec.get_int("leaf-merge"));
-    o.isa = bvh8::resolve_isa(spec.get("isa"));
+    o.isa = resolve_isa(spec.get("isa"), "bvh8");
     o.packets = spec.choice("packets", kOnOff);
     o.compressed = spec.choice("nodes", kNodeLayouts);
     return o;
 }
 
-/// The `isa` option: kAutoIsa, then the levels of the one table bvh8::kIsaLevels (which
+/// The `isa` option: kAutoIsa, then the levels of the one table kIsaLevels (which
 /// resolve_isa() reads the value with).
 OptionInfo isa_option() {
     std::string levels;
-    for (const Choice<bvh8::Isa>& c : bvh8::kIsaLevels) levels += (levels.empty() ? "" : "|") + std::string(c.name);
+    for (const Choice<Isa>& c : kIsaLevels) levels += (levels.empty() ? "" : "|") + std::string(c.name);
     OptionInfo o = choice_option("isa",
-                                 std::string("traversal kernels: ") + bvh8::kAutoIsa +
+                                 std::string("traversal kernels: ") + kAutoIsa +
                                      " (the CPU's best, capped by THICKET_ISA=" + levels + ") or one level",
-                                 bvh8::Isa::Scalar, bvh8::kIsaLevels);
-    o.choices.insert(o.choices.begin(), bvh8::kAutoIsa);
-    o.default_value = bvh8::kAutoIsa;
+                                 Isa::Scalar, kIsaLevels);
+    o.choices.insert(o.choices.begin(), kAutoIsa);
+    o.default_value = kAutoIsa;
     return o;
 }
 
@@ -86,8 +86,8 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
     };
     for (OptionInfo& o : sbvh_options()) info.options.push_back(std::move(o));
     for (OptionInfo& o : bvh_optimize_options()) info.options.push_back(std::move(o));
-    for (bvh8::Isa isa : bvh8::cpu_isas()) {
-        const std::string level = bvh8::isa_name(isa);
+    for (Isa isa : cpu_isas()) {
+        const std::string level = isa_name(isa);
         info.variants.push_back("bvh8:isa=" + level);
         info.variants.push_back("bvh8:isa=" + level + ",isect=watertight");
         info.variants.push_back("bvh8:isa=" + level + ",nodes=compressed");
@@ -104,7 +104,7 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
     info.build = [](const Scene& scene, const AccelSpec& spec) {
         return make_structure<Bvh8>(scene, spec, bvh8_options(spec));
     };
-    info.kernels = [](const AccelSpec& spec) { return std::string(bvh8::isa_name(bvh8::resolve_isa(spec.get("isa")))); };
+    info.kernels = [](const AccelSpec& spec) { return std::string(isa_name(resolve_isa(spec.get("isa"), "bvh8"))); };
     info.load = [](std::istream& in, const Scene& scene, const AccelSpec& spec) {
         bvh8::SavedTree saved = bvh8::read_tree(in, scene.primitive_count());
         return make_structure<Bvh8>(scene, spec, bvh8_options(spec), std::move(saved));

@@ -1,5 +1,5 @@
 // The JSON scene's "instances" (docs/shapes.md, "Instances"): each places the geometry of one
-// entry of "shapes" under an affine transform (two-level instancing, accel/instances.h).
+// entry of "shapes" under an affine transform (two-level instancing, instances/instances.h).
 #include <cmath>
 #include <limits>
 

@@ -26,7 +26,7 @@ std::string isa_line(const std::string& output) {
 TEST(IsaCli, ThicketIsaCapsWhatInfoAndBenchReport) {
     const auto best = run_thicket("info cornell --accel bvh8");
     ASSERT_EQ(best.code, 0) << best.output;
-    EXPECT_EQ(isa_line(best.output), thicket::bvh8::isa_name(thicket::bvh8::cpu_best_isa())) << best.output;
+    EXPECT_EQ(isa_line(best.output), thicket::isa_name(thicket::cpu_best_isa())) << best.output;
 
     const auto sse = run_thicket("info cornell --accel bvh8", "", "THICKET_ISA=sse");
     ASSERT_EQ(sse.code, 0) << sse.output;

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "support/temp_dir.h"
-#include "thicket/accel/instances.h"
+#include "thicket/instances/instances.h"
 #include "thicket/accel/registry.h"
 #include "thicket/core/error.h"
 #include "thicket/scene/scene.h"

@@ -1,4 +1,4 @@
-// Two-level instancing (accel/instances.h) against brute force over the flattened scene: the
+// Two-level instancing (instances/instances.h) against brute force over the flattened scene: the
 // covering set of every registered structure's variants (variant_cover.h) as the bottom level,
 // under instances with translation, rotation, uniform and anisotropic scale, shear and mirroring
 // (negative determinant), two coincident instances; closest t within a tolerance (the ray is
@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "support/variant_cover.h"
-#include "thicket/accel/instances.h"
+#include "thicket/instances/instances.h"
 #include "thicket/accel/registry.h"
 #include "thicket/core/error.h"
 

@@ -148,9 +148,9 @@ std::vector<std::string> refit_specs() {
                                       "bvh8:quality=high,nodes=compressed",
                                       "obb",
                                       "obb:fit=axes,isect=watertight"};
-    for (bvh8::Isa isa : bvh8::cpu_isas()) {
-        specs.push_back(std::string("bvh8:isa=") + bvh8::isa_name(isa));
-        specs.push_back(std::string("bvh8:isa=") + bvh8::isa_name(isa) + ",isect=watertight");
+    for (Isa isa : cpu_isas()) {
+        specs.push_back(std::string("bvh8:isa=") + isa_name(isa));
+        specs.push_back(std::string("bvh8:isa=") + isa_name(isa) + ",isect=watertight");
     }
     // Every option value once (variant_cover.h): refit itself is one code path per structure, and
     // the traversal's cross products (each ISA with each triangle test) are conformance.bvh8's.
@@ -414,7 +414,7 @@ TEST(RefitBvh8, PlaneBoundsFollowTheMove) {
     const Scene base = generated_scene();
     const Scene grown = moved_scene(base, Motion::Grow);
     std::vector<std::string> specs = {"bvh8:quality=high"};
-    for (bvh8::Isa isa : bvh8::cpu_isas()) specs.push_back(std::string("bvh8:isa=") + bvh8::isa_name(isa));
+    for (Isa isa : cpu_isas()) specs.push_back(std::string("bvh8:isa=") + isa_name(isa));
     for (const std::string& spec : specs) {
         const std::unique_ptr<Accel> accel = build_accel(spec, base);
         accel->refit(grown);

@@ -50,8 +50,8 @@ void expect_same_crossings(const std::vector<Hit>& got, const std::vector<Hit>& 
 
 TEST(Bvh8AllHits, MoreHitsThanTheStackBufferAreAllListedInOrder) {
     const Scene scene = stacked_squares(300);
-    for (bvh8::Isa isa : bvh8::cpu_isas()) {
-        const std::string spec = std::string("bvh8:isa=") + bvh8::isa_name(isa);
+    for (Isa isa : cpu_isas()) {
+        const std::string spec = std::string("bvh8:isa=") + isa_name(isa);
         const std::unique_ptr<Accel> accel = build_accel(spec, scene);
         const std::unique_ptr<Accel> brute = build_accel("brute", scene);
         // Through the middle of one triangle of each square; then on the shared diagonal, where

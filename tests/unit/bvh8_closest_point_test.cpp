@@ -63,8 +63,8 @@ void expect_same_as_brute(const Scene& scene, const std::vector<Vec3>& points, c
     const std::unique_ptr<Accel> brute = build_accel("brute:isect=" + isect, scene);
     std::vector<NearestPoint> want(points.size());
     brute->closest_points(points, want);
-    for (bvh8::Isa isa : bvh8::cpu_isas()) {
-        const std::string spec = std::string("bvh8:isa=") + bvh8::isa_name(isa) + ",isect=" + isect;
+    for (Isa isa : cpu_isas()) {
+        const std::string spec = std::string("bvh8:isa=") + isa_name(isa) + ",isect=" + isect;
         SCOPED_TRACE(spec);
         const std::unique_ptr<Accel> accel = build_accel(spec, scene);
         ASSERT_TRUE(accel->has_closest_point());

@@ -16,7 +16,7 @@
 namespace thicket::bvh8_fma_slab_test {
 namespace {
 
-using bvh8::Isa;
+using thicket::Isa;
 
 /// A node of 8 boxes of sizes from `size` / 1000 to `size`, around `centre`.
 bvh8::Node node_near(std::mt19937& rng, const Vec3& centre, float size) {
@@ -120,12 +120,12 @@ void check_never_culls(const Vec3& centre, float size, float distance, unsigned 
         // The far end too: infinite, or just short of / beyond the target.
         const int tp = tmax_pick(rng);
         ray.tmax = tp == 0 ? kInfinity : distance * (tp == 1 ? 1.0f - 1e-6f : (tp == 2 ? 1.0f : 1.0f + 1e-6f));
-        for (Isa isa : bvh8::cpu_isas()) {
+        for (Isa isa : cpu_isas()) {
             const BothTests b = compressed ? run_compressed(isa, ctx, q, node, ray) : run_both(isa, ctx, node, ray);
             const uint32_t exact = b.exact, fast = b.fast;
             ++out.rays;
             out.fma_rays += b.fma;
-            ASSERT_EQ(exact & ~fast, 0u) << bvh8::isa_name(isa) << ": the FMA test culled a box the exact test enters"
+            ASSERT_EQ(exact & ~fast, 0u) << isa_name(isa) << ": the FMA test culled a box the exact test enters"
                                          << " (centre " << centre.x << ", distance " << distance << ", trial " << trial
                                          << ")";
             for (int lane = 0; lane < 8; ++lane) {
@@ -138,7 +138,7 @@ void check_never_culls(const Vec3& centre, float size, float distance, unsigned 
                 ++out.exact_entered;
                 out.near_exact_entered += near_scale;
                 ASSERT_LE(b.fast_dist[lane], b.exact_dist[lane])
-                    << bvh8::isa_name(isa) << ": entry distance above the exact test's, trial " << trial;
+                    << isa_name(isa) << ": entry distance above the exact test's, trial " << trial;
             }
         }
     }
@@ -188,10 +188,10 @@ TEST(Bvh8FmaSlab, RaysItCannotBoundKeepTheExactTest) {
     parallel.org = Vec3(node.box[0][0][0], 0.0f, -10.0f), parallel.dir = Vec3(0.0f, 0.0f, 1.0f);
     far_away.org = Vec3(3e37f, 0.0f, 0.0f), far_away.dir = Vec3(-1.0f, 1e-30f, 1e-30f);
     for (const Ray& ray : {parallel, far_away})
-        for (Isa isa : bvh8::cpu_isas()) {
+        for (Isa isa : cpu_isas()) {
             const BothTests b = run_both(isa, ctx, node, ray);
-            EXPECT_EQ(b.fast, b.exact) << bvh8::isa_name(isa);
-            EXPECT_FALSE(b.fma) << bvh8::isa_name(isa);
+            EXPECT_EQ(b.fast, b.exact) << isa_name(isa);
+            EXPECT_FALSE(b.fma) << isa_name(isa);
         }
 }
 

@@ -16,7 +16,7 @@
 namespace thicket::bvh8_kernels_test {
 namespace {
 
-using bvh8::Isa;
+using thicket::Isa;
 
 uint32_t bits(float x) {
     uint32_t b;
@@ -77,7 +77,7 @@ Ray random_ray(std::mt19937& rng) {
 }
 
 TEST(Bvh8Kernels, EveryIsaRunsItsOwnTable) {
-    for (Isa isa : bvh8::cpu_isas()) EXPECT_STREQ(bvh8::kernels_for(isa).isa, bvh8::isa_name(isa));
+    for (Isa isa : cpu_isas()) EXPECT_STREQ(bvh8::kernels_for(isa).isa, isa_name(isa));
 }
 
 TEST(Bvh8Kernels, NodeTestIsRayBoxEntryBitwiseOnEveryLane) {
@@ -86,7 +86,7 @@ TEST(Bvh8Kernels, NodeTestIsRayBoxEntryBitwiseOnEveryLane) {
     for (int trial = 0; trial < 4000; ++trial) {
         const bvh8::Node node = random_node(rng);
         const Ray ray = random_ray(rng);
-        for (Isa isa : bvh8::cpu_isas()) {
+        for (Isa isa : cpu_isas()) {
             float dist[8];
             uint32_t any = 0;
             const uint32_t mask = bvh8::kernels_for(isa).node_test(&node, 1, ray, ray.tmax, dist, &any);
@@ -98,9 +98,9 @@ TEST(Bvh8Kernels, NodeTestIsRayBoxEntryBitwiseOnEveryLane) {
                                                 Vec3(node.box[0][1][lane], node.box[1][1][lane], node.box[2][1][lane]))
                           : kInfinity;
                 const bool hit = (mask >> lane) & 1;
-                ASSERT_EQ(hit, want != kInfinity) << bvh8::isa_name(isa) << " trial " << trial << " lane " << lane;
+                ASSERT_EQ(hit, want != kInfinity) << isa_name(isa) << " trial " << trial << " lane " << lane;
                 if (hit) {
-                    ASSERT_EQ(bits(dist[lane]), bits(want)) << bvh8::isa_name(isa) << " trial " << trial;
+                    ASSERT_EQ(bits(dist[lane]), bits(want)) << isa_name(isa) << " trial " << trial;
                 }
                 entered += hit;
                 ++checked;
@@ -118,11 +118,11 @@ TEST(Bvh8Kernels, NodeTestNeverEntersAnEmptyLaneEvenForNanRays) {
     const float nan = std::nanf("");
     for (const Ray& ray : {Ray{{nan, 0, 0}, 0.0f, {1, 0, 0}, kInfinity}, Ray{{0, 0, 0}, 0.0f, {nan, nan, nan}, kInfinity},
                            Ray{{0, 0, 0}, 0.0f, {kInfinity, 1, 0}, kInfinity}})
-        for (Isa isa : bvh8::cpu_isas()) {
+        for (Isa isa : cpu_isas()) {
             float dist[8];
             uint32_t any = 0;
             EXPECT_EQ(bvh8::kernels_for(isa).node_test(&node, 1, ray, ray.tmax, dist, &any) >> 7, 0u)
-                << bvh8::isa_name(isa);
+                << isa_name(isa);
         }
 }
 
@@ -139,15 +139,15 @@ TEST(Bvh8Kernels, BlockTestIsMollerTrumboreBitwise) {
                 for (int a = 0; a < 3; ++a) block.v[k][a][lane] = v[lane][k][a];
             }
         Ray ray{{coord(rng) * 0.5f, coord(rng) * 0.5f, 3.0f}, 0.0f, {coord(rng) * 0.1f, coord(rng) * 0.1f, -1.0f}, 3.5f};
-        for (Isa isa : bvh8::cpu_isas()) {
+        for (Isa isa : cpu_isas()) {
             float t[4];
             const uint32_t mask = bvh8::kernels_for(isa).block_test(block, ray, ray.tmax, t);
             for (int lane = 0; lane < 4; ++lane) {
                 TriangleHit want;
                 const bool hit = intersect_moller(v[lane][0], v[lane][1], v[lane][2], ray, ray.tmax, want);
-                ASSERT_EQ(bool((mask >> lane) & 1), hit) << bvh8::isa_name(isa) << " trial " << trial;
+                ASSERT_EQ(bool((mask >> lane) & 1), hit) << isa_name(isa) << " trial " << trial;
                 if (hit) {
-                    ASSERT_EQ(bits(t[lane]), bits(want.t)) << bvh8::isa_name(isa) << " trial " << trial;
+                    ASSERT_EQ(bits(t[lane]), bits(want.t)) << isa_name(isa) << " trial " << trial;
                 }
                 hits += hit;
             }
@@ -159,9 +159,9 @@ TEST(Bvh8Kernels, BlockTestIsMollerTrumboreBitwise) {
 TEST(Bvh8Kernels, AZeroLaneIsNeverHit) {
     bvh8::Tri4 block{};  // all-zero vertices: the padding of a partly filled block
     const Ray ray{{0, 0, 1}, 0.0f, {0, 0, -1}, kInfinity};
-    for (Isa isa : bvh8::cpu_isas()) {
+    for (Isa isa : cpu_isas()) {
         float t[4];
-        EXPECT_EQ(bvh8::kernels_for(isa).block_test(block, ray, ray.tmax, t), 0u) << bvh8::isa_name(isa);
+        EXPECT_EQ(bvh8::kernels_for(isa).block_test(block, ray, ray.tmax, t), 0u) << isa_name(isa);
     }
 }
 

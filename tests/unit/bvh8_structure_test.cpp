@@ -202,17 +202,17 @@ TEST(Bvh8Quality, APresetWithItsOwnBuilderOrBinsIsAnErrorNamingBoth) {
 TEST(Bvh8Isa, AutoIsTheBestLevelCappedByTheEnvironment) {
     {
         ScopedIsaEnv env(nullptr);
-        EXPECT_EQ(bvh8::resolve_isa("auto"), bvh8::cpu_best_isa());
+        EXPECT_EQ(resolve_isa("auto", "bvh8"), cpu_best_isa());
     }
     {
         ScopedIsaEnv env("sse");
-        EXPECT_EQ(bvh8::resolve_isa("auto"), bvh8::Isa::Sse);
+        EXPECT_EQ(resolve_isa("auto", "bvh8"), Isa::Sse);
         EXPECT_EQ(extra(build_accel("bvh8", soup())->stats(), "isa"), "sse");
-        EXPECT_EQ(bvh8::resolve_isa("scalar"), bvh8::Isa::Scalar) << "an explicit level ignores the cap";
+        EXPECT_EQ(resolve_isa("scalar", "bvh8"), Isa::Scalar) << "an explicit level ignores the cap";
     }
     {
         ScopedIsaEnv env("scalar");
-        EXPECT_EQ(bvh8::resolve_isa("auto"), bvh8::Isa::Scalar);
+        EXPECT_EQ(resolve_isa("auto", "bvh8"), Isa::Scalar);
     }
 }
 
@@ -220,16 +220,16 @@ TEST(Bvh8Isa, BadLevelsAreErrorsThatSayWhatTheCpuHas) {
     {
         ScopedIsaEnv env("avx9");
         try {
-            bvh8::resolve_isa("auto");
+            resolve_isa("auto", "bvh8");
             FAIL() << "THICKET_ISA=avx9 accepted";
         } catch (const Error& e) {
             EXPECT_NE(std::string(e.what()).find("THICKET_ISA=avx9"), std::string::npos) << e.what();
         }
     }
     EXPECT_THROW(parse_accel_spec("bvh8:isa=neon"), Error);
-    if (bvh8::cpu_best_isa() != bvh8::Isa::Avx512) {
+    if (cpu_best_isa() != Isa::Avx512) {
         try {
-            bvh8::resolve_isa("avx512");
+            resolve_isa("avx512", "bvh8");
             FAIL() << "isa=avx512 accepted on a CPU without it";
         } catch (const Error& e) {
             EXPECT_NE(std::string(e.what()).find("it has scalar, sse"), std::string::npos) << e.what();
@@ -240,8 +240,8 @@ TEST(Bvh8Isa, BadLevelsAreErrorsThatSayWhatTheCpuHas) {
 TEST(Bvh8Isa, ConformanceVariantsCoverEveryLevelTheCpuRuns) {
     const AccelInfo* info = find_accel("bvh8");
     ASSERT_NE(info, nullptr);
-    for (bvh8::Isa isa : bvh8::cpu_isas()) {
-        const std::string level = std::string("isa=") + bvh8::isa_name(isa);
+    for (Isa isa : cpu_isas()) {
+        const std::string level = std::string("isa=") + isa_name(isa);
         EXPECT_TRUE(std::any_of(info->variants.begin(), info->variants.end(),
                                 [&](const std::string& v) { return v == "bvh8:" + level; }))
             << level;
@@ -253,8 +253,8 @@ TEST(Bvh8Isa, ConformanceVariantsCoverEveryLevelTheCpuRuns) {
 
 TEST(Bvh8Query, CountersCountNodesAndEachPrimitiveAtMostOnce) {
     const Scene scene = soup();
-    for (bvh8::Isa isa : bvh8::cpu_isas()) {
-        auto accel = build_accel(std::string("bvh8:isa=") + bvh8::isa_name(isa), scene);
+    for (Isa isa : cpu_isas()) {
+        auto accel = build_accel(std::string("bvh8:isa=") + isa_name(isa), scene);
         const Ray ray{scene.bounds().center() - Vec3(0, 0, 10), 0.0f, {0, 0, 1}, kInfinity};
         RayCounters c;
         const Hit hit = accel->intersect(ray, c);
@@ -276,13 +276,13 @@ TEST(Bvh8Query, EveryIsaAnswersBitwiseLikeTheScalarKernels) {
         const std::vector<Ray> rays = testing::conformance_rays(scene, 1500, 5);
         auto scalar = build_accel("bvh8:isa=scalar", scene);
         size_t hits = 0;
-        for (bvh8::Isa isa : bvh8::cpu_isas()) {
-            auto accel = build_accel(std::string("bvh8:isa=") + bvh8::isa_name(isa), scene);
+        for (Isa isa : cpu_isas()) {
+            auto accel = build_accel(std::string("bvh8:isa=") + isa_name(isa), scene);
             for (size_t i = 0; i < rays.size(); ++i) {
                 const Hit a = scalar->intersect(rays[i]), b = accel->intersect(rays[i]);
-                ASSERT_EQ(a.prim, b.prim) << bvh8::isa_name(isa) << " ray " << i << " of " << scene.name;
-                ASSERT_EQ(std::memcmp(&a, &b, sizeof(Hit)), 0) << bvh8::isa_name(isa) << " ray " << i;
-                ASSERT_EQ(scalar->occluded(rays[i]), accel->occluded(rays[i])) << bvh8::isa_name(isa) << " ray " << i;
+                ASSERT_EQ(a.prim, b.prim) << isa_name(isa) << " ray " << i << " of " << scene.name;
+                ASSERT_EQ(std::memcmp(&a, &b, sizeof(Hit)), 0) << isa_name(isa) << " ray " << i;
+                ASSERT_EQ(scalar->occluded(rays[i]), accel->occluded(rays[i])) << isa_name(isa) << " ray " << i;
                 hits += a.found();
             }
         }

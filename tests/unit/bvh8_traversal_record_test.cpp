@@ -196,8 +196,8 @@ Replayed replay(const Drawn& tree, const Ray& ray, const std::vector<TraversalSt
 
 TEST(Bvh8TraversalRecord, StepsReplayTheTraversalAndAgreeWithItsCountersAndHit) {
     const Scene tris = soup(), shapes = spheres();
-    for (bvh8::Isa isa : bvh8::cpu_isas()) {
-        const std::string level = bvh8::isa_name(isa);
+    for (Isa isa : cpu_isas()) {
+        const std::string level = isa_name(isa);
         // The three leaf kinds (Moller blocks, watertight blocks, ids) in both node layouts.
         const std::pair<const Scene*, std::string> cases[] = {
             {&tris, "bvh8:isa=" + level},

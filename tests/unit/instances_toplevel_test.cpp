@@ -1,4 +1,4 @@
-// The instanced structure's top level (accel/instance_top.h): world boxes from vertex parts
+// The instanced structure's top level (instances/instance_top.h): world boxes from vertex parts
 // hold every transformed vertex and are tighter than a turned box's box, and a ray outside them
 // calls no instance; a triangle bvh8 bottom is called through its kernels; the 8-wide SAH top level
 // over a field of instances visits a path, not the field. Counted work, never time.
@@ -8,8 +8,8 @@
 #include <memory>
 #include <vector>
 
-#include "thicket/accel/instance_top.h"
-#include "thicket/accel/instances.h"
+#include "thicket/instances/instance_top.h"
+#include "thicket/instances/instances.h"
 #include "thicket/accel/registry.h"
 
 namespace instances_toplevel_test {

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "thicket/accel/accel.h"
-#include "thicket/accel/choice.h"
+#include "thicket/core/choice.h"
 #include "thicket/scene/scene.h"
 
 namespace thicket {
@@ -173,6 +173,13 @@ AccelSpec parse_accel_spec(std::string_view spec);
 
 /// Every variant spec of every registered structure (what `--accel all` means).
 std::vector<std::string> all_accel_variants();
+
+/// The structure every front end builds when the user names none (`thicket render`, `trace`,
+/// `info`, `bench`; the module's build(), its pictures, RaycastingScene, thicket.dask): the fastest.
+inline constexpr const char* kDefaultSpec = "bvh8";
+/// The structure that answers closest points for one that cannot (PointQueries' fallback, the
+/// default of `thicket closest`): its 8-wide point traversal is the fastest.
+inline constexpr const char* kClosestPointSpec = "bvh8";
 
 /// Parses `spec` and builds the structure over `scene` on up to `threads` threads (0: every
 /// core), filling stats().build_ms. The result does not depend on `threads`.

@@ -39,7 +39,7 @@ namespace thicket {
 struct Bvh8Options {
     /// The binary BVH that is collapsed: leaves weighed in 4-triangle blocks (sah_block 4).
     BvhBuildOptions binary{BvhBuilder::BinnedSah, 16, 4, 4};
-    bvh8::Isa isa = bvh8::Isa::Scalar;
+    Isa isa = Isa::Scalar;
     uint32_t merge_below = 4;  ///< subtrees of at most this many primitives become one leaf
     bool packets = true;       ///< coherent batches go through the packet kernels
     bool compressed = false;   ///< nodes=compressed: QNodes (96 bytes) instead of Nodes (256)
@@ -273,9 +273,11 @@ public:
 
 protected:
     /// Coherent batches: each 16 consecutive rays that share a direction octant (and have no zero
-    /// direction component) go through the packet kernel; others, and incoherent batches, ray by ray.
+    /// direction component) go through the packet kernel; others, incoherent batches and every batch
+    /// on a level without packets (KernelTable::packets false), ray by ray.
     void intersect_chunk(std::span<const Ray> rays, std::span<Hit> hits, bool coherent) const override {
-        if (!coherent || !packets_ || node_count_ == 0) return Accel::intersect_chunk(rays, hits, coherent);
+        if (!coherent || !packets_ || !kernels_->packets || node_count_ == 0)
+            return Accel::intersect_chunk(rays, hits, coherent);
         uint64_t in_packets = 0;
         for (size_t begin = 0; begin < rays.size(); begin += bvh8::kPacketSize) {
             const uint32_t count = uint32_t(std::min<size_t>(bvh8::kPacketSize, rays.size() - begin));

@@ -156,6 +156,10 @@ using RecordFn = Hit (*)(const TraceContext& ctx, const Ray& ray, RayCounters* c
 /// One ISA's kernels.
 struct KernelTable {
     const char* isa;
+    /// Whether packet_closest traces packets: false where the level has no packet kernel (AVX2, the
+    /// scalar reference), which then answers each ray alone, and Bvh8 sends coherent batches ray by
+    /// ray instead, so that "packet rays" counts only rays a packet kernel traced.
+    bool packets;
     ClosestFn closest[kLeafKinds][2];  ///< [kind][0: no counters, 1: counting]
     AnyFn any[kLeafKinds][2];
     NodeTestFn node_test;

@@ -45,7 +45,7 @@ struct Scene {
     /// shapes directly is valid.
     std::vector<Geometry> geometries;
 
-    /// Instances of the geometries (two-level instancing, accel/instances.h). Empty: the
+    /// Instances of the geometries (two-level instancing, instances/instances.h). Empty: the
     /// geometries are the scene, as always. Otherwise the geometries are prototypes, drawn only
     /// where instances place them: build_accel() builds an instanced structure (InstancedAccel)
     /// whose hits' `prim` are flattened ids (flatten_instances()), which normal() understands.

@@ -1,5 +1,5 @@
 #pragma once
-/// Two-level instancing: a top-level 8-wide BVH over instances (accel/instance_top.h), each a
+/// Two-level instancing: a top-level 8-wide BVH over instances (instances/instance_top.h), each a
 /// geometry of a prototype scene under an affine transform, over one bottom-level structure (any
 /// registered spec) per geometry that some instance references, built once however many
 /// instances share it. Memory grows with the unique geometry; moving instances (set_transform)
@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "thicket/accel/accel.h"
-#include "thicket/accel/instance_top.h"
+#include "thicket/instances/instance_top.h"
 #include "thicket/accel/registry.h"
 #include "thicket/scene/instance.h"
 #include "thicket/scene/scene.h"

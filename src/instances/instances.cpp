@@ -1,4 +1,4 @@
-#include "thicket/accel/instances.h"
+#include "thicket/instances/instances.h"
 
 #include <algorithm>
 #include <cmath>
@@ -158,20 +158,6 @@ void InstancedAccel::build_top() {
     top_ = std::make_unique<const InstanceTop>(world_boxes_, std::move(leaves), std::move(bottoms), 0);
 }
 
-namespace {
-
-/// Carries a world ray into an instance's space: t, tmin and tmax keep their meaning.
-Ray to_instance(const Ray& ray, const RayToInstance& to_local, float tmax) {
-    Ray local;
-    local.org = to_local.point(ray.org);
-    local.dir = to_local.vector(ray.dir);
-    local.tmin = ray.tmin;
-    local.tmax = tmax;
-    return local;
-}
-
-}  // namespace
-
 Hit InstancedAccel::intersect(const Ray& ray) const { return top_->closest(ray, nullptr); }
 Hit InstancedAccel::intersect(const Ray& ray, RayCounters& counters) const { return top_->closest(ray, &counters); }
 bool InstancedAccel::occluded(const Ray& ray) const { return top_->any(ray, nullptr); }
@@ -197,7 +183,7 @@ Vec3 InstancedAccel::normal(const Ray& ray, const Hit& hit) const {
     Hit local = hit;
     local.prim = where.scene_prim;
     const RayToInstance to_local = ray_to_instance(instances_[where.instance].transform, inv);
-    const Vec3 n = prototypes_->normal(to_instance(ray, to_local, ray.tmax), local);
+    const Vec3 n = prototypes_->normal(to_local.ray(ray, ray.tmax), local);
     Vec3 w = inv.transposed_vector(n);
     if (!prototypes_->locate(where.scene_prim).shape && transform_determinant(instances_[where.instance].transform) < 0.0)
         w = -w;

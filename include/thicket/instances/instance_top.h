@@ -1,5 +1,5 @@
 #pragma once
-/// The top level of an instanced structure (accel/instances.h): an 8-wide bvh8 tree built with
+/// The top level of an instanced structure (instances/instances.h): an 8-wide bvh8 tree built with
 /// binned SAH over the instances' world boxes, one instance per leaf, in uncompressed nodes,
 /// traversed by bvh8's own SIMD kernels with callback leaves. A leaf carries the world ray into
 /// its instance's space and calls the bottom level: a triangle `bvh8` directly through its kernel

@@ -1,6 +1,6 @@
 #pragma once
-/// One allowed value of a choice option, on its own so that a structure's plain headers can hold
-/// their name tables without the registry (bvh8's ISA levels: thicket/bvh8/isa.h).
+/// One allowed value of a choice option, on the ground floor so that any header can hold its name
+/// table without the registry (the ISA levels: thicket/core/isa.h; the structures' options).
 
 namespace thicket {
 

@@ -1,4 +1,4 @@
-#include "thicket/accel/instance_top.h"
+#include "thicket/instances/instance_top.h"
 
 #include <algorithm>
 #include <utility>
@@ -25,11 +25,6 @@ bool bvh8_bottom(const Accel& accel, InstanceBottom& out) {
     return true;
 }
 
-/// Carries the world ray into an instance's space: t, tmin and tmax keep their meaning.
-inline Ray to_local(const Ray& ray, const RayToInstance& map, float tmax) {
-    return Ray{map.point(ray.org), ray.tmin, map.vector(ray.dir), tmax};
-}
-
 /// ClosestLeafFn of the top level: each instance of the leaf tested below hit.t; a nearer hit
 /// replaces hit with its flattened id (a tie keeps the instance found first).
 bool closest_instances(const void* view, const uint32_t* ids, uint32_t count, const Ray& ray, Hit& hit) {
@@ -38,7 +33,7 @@ bool closest_instances(const void* view, const uint32_t* ids, uint32_t count, co
     for (uint32_t k = 0; k < count; ++k) {
         const InstanceLeaf& leaf = v.leaves[ids + k - v.ids];
         const InstanceBottom& b = v.bottoms[leaf.bottom];
-        const Ray local = to_local(ray, leaf.to_local, hit.t);
+        const Ray local = leaf.to_local.ray(ray, hit.t);
         Hit h;
         if (b.ctx) h = b.closest[v.counters ? 1 : 0](*b.ctx, local, v.counters);
         else h = v.counters ? b.accel->intersect(local, *v.counters) : b.accel->intersect(local);
@@ -57,7 +52,7 @@ bool any_instance(const void* view, const uint32_t* ids, uint32_t count, const R
     for (uint32_t k = 0; k < count; ++k) {
         const InstanceLeaf& leaf = v.leaves[ids + k - v.ids];
         const InstanceBottom& b = v.bottoms[leaf.bottom];
-        const Ray local = to_local(ray, leaf.to_local, ray.tmax);
+        const Ray local = leaf.to_local.ray(ray, ray.tmax);
         bool hit;
         if (b.ctx) hit = b.any[v.counters ? 1 : 0](*b.ctx, local, v.counters);
         else hit = v.counters ? b.accel->occluded(local, *v.counters) : b.accel->occluded(local);
@@ -79,7 +74,7 @@ InstanceTop::InstanceTop(std::span<const Aabb> boxes, std::vector<InstanceLeaf> 
                          std::vector<InstanceBottom> bottoms, unsigned threads)
     : leaves_(std::move(leaves)),
       bottoms_(std::move(bottoms)),
-      kernels_(&bvh8::kernels_for(bvh8::resolve_isa(bvh8::kAutoIsa))) {
+      kernels_(&bvh8::kernels_for(resolve_isa(kAutoIsa, "bvh8"))) {
     // Only instances a ray can hit take part; the builder sees them as primitives 0..n-1.
     std::vector<uint32_t> kept;
     std::vector<Aabb> kept_boxes;
