@@ -174,7 +174,8 @@ PYBIND11_MODULE(_thicket, m) {
              "cast_rays(rays, nthreads=0, coherent=False) -> dict. rays: float32 (..., 6) or (..., 8) (ox oy oz dx dy "
              "dz [tmin tmax]). Closest hit of each (Open3D's RaycastingScene.cast_rays): t_hit float32 (...) (inf on "
              "a miss), geometry_ids uint32 (...), primitive_ids uint32 (...) (INVALID_ID on a miss), primitive_uvs "
-             "float32 (..., 2), primitive_normals float32 (..., 3). coherent=True: camera rays, traced in tiles. nthreads: 0 (one per core) "
+             "float32 (..., 2), primitive_normals float32 (..., 3). coherent=True: camera rays, traced in tiles (float32 rays "
+             "only: refused with float64 rays, which have no packet path). nthreads: 0 (one per core) "
              "or a thread count up to 2^32 - 1, as the CLI's -j; answers that do not fit in memory are a MemoryError. "
              "float64 rays: traced in double by a structure built with precision=double (t_hit and primitive_uvs "
              "then float64), refused by the others with a ValueError naming precision=double")
@@ -186,7 +187,8 @@ PYBIND11_MODULE(_thicket, m) {
              "test_occlusions(rays, tnear=None, tfar=None, nthreads=0, coherent=False) -> bool ndarray. rays: "
              "float32 (..., 6) or (..., 8) (ox oy oz dx dy dz [tmin tmax]); answers whether anything is hit "
              "within [tnear, tfar] (floats; default the rays' own interval, else [0, inf)), bool of shape (...). "
-             "float64 rays: as cast_rays (precision=double structures only)")
+             "float64 rays: as cast_rays (precision=double structures only). coherent=True is refused (thicket.Error): "
+             "no structure traces any-hit rays in packets, so the hint would change nothing")
         .def("count_intersections", [](const AccelHandle& h, const py::handle& rays, const py::handle& nthreads) {
             return count_intersections(h, rays, thread_count(nthreads));
         }, "rays"_a, "nthreads"_a = 0,
@@ -259,7 +261,7 @@ PYBIND11_MODULE(_thicket, m) {
         py::gil_scoped_release nogil;
         std::shared_ptr<Accel> accel = build_accel(spec, *scene);
         return AccelHandle(scene, accel);
-    }, "scene"_a, "spec"_a = "bvh8",
+    }, "scene"_a, "spec"_a = kDefaultSpec,
           "build(scene, spec='bvh8') -> Accel. Builds a structure over scene (a Scene) from a spec string "
           "NAME[:key=value,...] (see accels()); thicket.Error for a bad spec");
 
@@ -279,6 +281,7 @@ PYBIND11_MODULE(_thicket, m) {
           "load(path, scene) -> Accel. Loads a structure saved by Accel.save for the same scene (path: str, bytes "
           "or os.PathLike); thicket.Error when the file was saved for another scene");
 
+    m.attr("DEFAULT_SPEC") = kDefaultSpec;  // what build() and RaycastingScene take without a spec
     m.def("accels", &accels_list,
           "accels() -> list of dict. Every registered structure: name, summary, partitioning (str), options (list of "
           "dict: key, help, default, and min/max or choices), variants (list of str), can_load (bool)");

@@ -32,7 +32,6 @@ namespace {
 using namespace py::literals;
 
 /// The Python package's default structure (thicket.build's), for path_trace given a Scene.
-constexpr const char* kDefaultSpec = "bvh8";
 
 std::string type_name(const py::handle& v) { return py::str(py::type::of(v).attr("__name__")); }
 

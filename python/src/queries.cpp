@@ -121,7 +121,12 @@ struct CastOutputs {
 }  // namespace
 
 py::dict cast_rays(AccelHandle& h, const py::handle& rays_obj, unsigned threads, bool coherent) {
-    if (is_float64_array(rays_obj)) return cast_rays_double(h, rays_obj, threads);
+    if (is_float64_array(rays_obj)) {
+        BatchOptions options;
+        options.coherent = coherent;
+        refuse_coherent("float64 cast_rays", options);
+        return cast_rays_double(h, rays_obj, threads);
+    }
     const Rows rows = float32_rows(rays_obj, "rays", {6, 8});
     check_answer_memory(rows, 4 + 4 + 4 + 8 + 12, "cast_rays");  // t, two ids, uv, normal
     const std::shared_ptr<const std::vector<Vec3>> normal_table = triangle_normals(h, threads);
@@ -175,6 +180,9 @@ py::dict cast_rays(AccelHandle& h, const py::handle& rays_obj, unsigned threads,
 
 py::array test_occlusions(const AccelHandle& h, const py::handle& rays_obj, std::optional<float> tnear,
                           std::optional<float> tfar, unsigned threads, bool coherent) {
+    BatchOptions options;
+    options.coherent = coherent;
+    refuse_coherent("test_occlusions", options);  // no any-hit packet path
     if (is_float64_array(rays_obj)) return test_occlusions_double(h, rays_obj, tnear, tfar, threads);
     const Rows rows = float32_rows(rays_obj, "rays", {6, 8});
     check_interval_arguments(rows, tnear, tfar);
@@ -185,7 +193,7 @@ py::array test_occlusions(const AccelHandle& h, const py::handle& rays_obj, std:
         py::gil_scoped_release nogil;
         for_each_ray_chunk(ray_rows(rows, tnear.value_or(0.0f), tfar.value_or(kInfinity)), threads, [&](const RayChunk& c) {
             uint8_t occluded[kBatchGrain];
-            h.accel->occluded_chunk(c.span(), {occluded, c.count}, coherent);
+            h.accel->occluded_chunk(c.span(), {occluded, c.count});
             if (!c.complete()) std::fill(out + c.begin, out + c.end, false);
             for (size_t k = 0; k < c.count; ++k) out[c.row(k)] = occluded[k] != 0;
         });

@@ -139,7 +139,20 @@ def test_other_arguments_of_the_wrong_type_are_short_errors(cube):
         accel.cast_rays(rays, coherent="yes")
     with pytest.raises(TypeError, match=r"^tfar must be a number or None, got str$"):
         accel.test_occlusions(rays, tfar="1")
-    assert accel.test_occlusions(rays, tnear=np.float64(0.5), tfar=2, coherent=np.bool_(True)).shape == (1000,)
+    assert accel.test_occlusions(rays, tnear=np.float64(0.5), tfar=2, coherent=np.bool_(False)).shape == (1000,)
+
+
+def test_coherent_is_refused_where_no_packet_path_would_take_it(cube):
+    # Any-hit rays have no packet path: the hint is refused, not ignored; closest hits take it.
+    accel = thicket.build(cube, "bvh8")
+    rays = np.zeros((1000, 6), np.float32)
+    rays[:, 5] = -1.0
+    with pytest.raises(thicket.Error, match=r"test_occlusions batch: coherent .* refused rather than ignored"):
+        accel.test_occlusions(rays, coherent=True)
+    assert accel.cast_rays(rays, coherent=np.bool_(True))["t_hit"].shape == (1000,)
+    double = thicket.build(cube, "bvh:precision=double")
+    with pytest.raises(thicket.Error, match=r"float64 cast_rays batch: coherent"):
+        double.cast_rays(rays.astype(np.float64), coherent=True)
 
 
 def test_thread_counts_in_range_answer_alike(cube):

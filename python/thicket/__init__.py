@@ -29,7 +29,7 @@ MemoryError for one too big for memory, OSError for a file that cannot be read o
 malformed file, a saved structure of another scene).
 """
 
-from ._thicket import Accel, Error, Scene, accels, build, heat_colours, load, load_scene, path_trace, rays, save_png
+from ._thicket import DEFAULT_SPEC, Accel, Error, Scene, accels, build, heat_colours, load, load_scene, path_trace, rays, save_png
 from ._cameras import create_rays_pinhole
 from ._raycasting import RaycastingScene
 
@@ -37,4 +37,4 @@ INVALID_ID = 4294967295
 """primitive_ids and geometry_ids of a miss (Open3D's RaycastingScene.INVALID_ID)."""
 
 __all__ = ["Accel", "Error", "Scene", "accels", "build", "load", "load_scene", "create_rays_pinhole", "rays",
-           "path_trace", "heat_colours", "save_png", "INVALID_ID", "RaycastingScene"]
+           "path_trace", "heat_colours", "save_png", "INVALID_ID", "DEFAULT_SPEC", "RaycastingScene"]

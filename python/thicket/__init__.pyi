@@ -17,6 +17,8 @@ _Vector3 = Union[npt.ArrayLike, Any]  # 3 numbers: a list, a numpy array, an Ope
 _Triple = Tuple[float, float, float]
 _Light = Tuple[_Vector3, Union[float, _Vector3]]  # (position, intensity in W/sr: one number or r, g, b)
 
+DEFAULT_SPEC: str
+"""The spec build() and RaycastingScene use when given none: "bvh8", the fastest (the CLI's default too)."""
 INVALID_ID: int
 """primitive_ids and geometry_ids of a miss (Open3D's RaycastingScene.INVALID_ID): 4294967295."""
 

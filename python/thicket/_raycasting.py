@@ -11,7 +11,7 @@ import operator
 import numpy as np
 
 from ._cameras import create_rays_pinhole as _create_rays_pinhole
-from ._thicket import Error, Scene, build
+from ._thicket import DEFAULT_SPEC, Error, Scene, build
 
 __all__ = ["RaycastingScene"]
 
@@ -133,7 +133,7 @@ class RaycastingScene:
     INVALID_ID = _INVALID
     """geometry_ids and primitive_ids of a miss: 4294967295 (Open3D's RaycastingScene.INVALID_ID)."""
 
-    def __init__(self, nthreads=0, accel="bvh8"):
+    def __init__(self, nthreads=0, accel=DEFAULT_SPEC):
         """nthreads: threads for refitting (0: one per core); building uses the library's builder
         as thicket.build does. accel: the spec string of the structure (thicket.build's, default
         "bvh8": the fastest traversal, answers closest points itself, and refits); a bad spec is a

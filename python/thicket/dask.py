@@ -119,7 +119,7 @@ def _one_chunk_last_axis(rays, spec, saved):
     return rays.rechunk({rays.ndim - 1: -1}) if len(rays.chunks[-1]) > 1 else rays
 
 
-def cast_rays(rays, scene_path, spec="bvh8", saved=None, nthreads=0):
+def cast_rays(rays, scene_path, spec=thicket.DEFAULT_SPEC, saved=None, nthreads=0):
     """Closest hits of a Dask array of rays (a numpy array is wrapped with dask.array.from_array;
     anything else is a TypeError): a dict of Dask arrays with cast_rays' keys."""
     rays = _one_chunk_last_axis(rays, spec, saved)
@@ -148,12 +148,12 @@ def _per_ray(rays, scene_path, spec, saved, query, dtype, **kwargs):
     return rays.map_blocks(block, dtype=dtype, drop_axis=rays.ndim - 1)
 
 
-def test_occlusions(rays, scene_path, spec="bvh8", saved=None, nthreads=0):
+def test_occlusions(rays, scene_path, spec=thicket.DEFAULT_SPEC, saved=None, nthreads=0):
     """Whether anything is hit, a bool Dask array of the rays' leading shape (rays as cast_rays takes them)."""
     return _per_ray(rays, scene_path, spec, saved, "test_occlusions", np.bool_, nthreads=nthreads)
 
 
-def count_intersections(rays, scene_path, spec="bvh8", saved=None, nthreads=0):
+def count_intersections(rays, scene_path, spec=thicket.DEFAULT_SPEC, saved=None, nthreads=0):
     """Surface crossings per ray, an int32 Dask array of the rays' leading shape (rays as cast_rays takes them)."""
     return _per_ray(rays, scene_path, spec, saved, "count_intersections", np.int32, nthreads=nthreads)
 

@@ -28,6 +28,7 @@ bool Accel::occluded_double(const RayD&) const { refuse_double(spec()); }
 
 void Accel::intersect_double(std::span<const RayD> rays, std::span<HitD> hits, const BatchOptions& options) const {
     check_double_sizes("closest-hit", rays.size(), hits.size());
+    refuse_coherent("float64 closest-hit", options);  // no packet path in double
     if (!double_precision()) refuse_double(spec());
     parallel_for(rays.size(), kBatchGrain, options.threads, [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) hits[i] = intersect_double(rays[i]);
@@ -37,6 +38,7 @@ void Accel::intersect_double(std::span<const RayD> rays, std::span<HitD> hits, c
 
 void Accel::occluded_double(std::span<const RayD> rays, std::span<uint8_t> out, const BatchOptions& options) const {
     check_double_sizes("any-hit", rays.size(), out.size());
+    refuse_coherent("float64 any-hit", options);
     if (!double_precision()) refuse_double(spec());
     parallel_for(rays.size(), kBatchGrain, options.threads, [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) out[i] = occluded_double(rays[i]) ? 1 : 0;

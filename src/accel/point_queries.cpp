@@ -57,7 +57,7 @@ void inside_by_parity(const Accel& accel, std::span<const Vec3> points, int nsam
 const Accel& PointQueries::closest_accel() const {
     if (accel_.has_closest_point()) return accel_;
     std::call_once(fallback_once_, [&] {
-        std::unique_ptr<Accel> helper = build_accel("bvh8", scene_);
+        std::unique_ptr<Accel> helper = build_accel(kClosestPointSpec, scene_);
         if (!helper->has_closest_point()) helper->closest_point({0, 0, 0});  // throws the reason (shapes)
         fallback_ = std::move(helper);
     });
@@ -67,6 +67,7 @@ const Accel& PointQueries::closest_accel() const {
 void PointQueries::closest_points(std::span<const Vec3> points, std::span<NearestPoint> out,
                                   const BatchOptions& options) const {
     check_sizes("closest points", points.size(), out.size());
+    refuse_coherent("closest points", options);
     for_each_closest_chunk(points, options.threads, [&](size_t begin, size_t end, const NearestPoint* closest) {
         std::copy(closest, closest + (end - begin), out.begin() + std::ptrdiff_t(begin));
         if (options.progress) options.progress(end - begin);
@@ -75,6 +76,7 @@ void PointQueries::closest_points(std::span<const Vec3> points, std::span<Neares
 
 void PointQueries::distances(std::span<const Vec3> points, std::span<float> out, const BatchOptions& options) const {
     check_sizes("distances", points.size(), out.size());
+    refuse_coherent("distances", options);
     for_each_closest_chunk(points, options.threads, [&](size_t begin, size_t end, const NearestPoint* closest) {
         for (size_t i = begin; i < end; ++i) out[i] = closest[i - begin].distance;
         if (options.progress) options.progress(end - begin);
@@ -85,6 +87,7 @@ void PointQueries::occupancy(std::span<const Vec3> points, std::span<uint8_t> ou
                              const BatchOptions& options) const {
     check_parity_samples(nsamples);
     check_sizes("occupancy", points.size(), out.size());
+    refuse_coherent("occupancy", options);
     parallel_for(points.size(), kBatchGrain, options.threads, [&](size_t begin, size_t end) {
         inside_by_parity(accel_, points.subspan(begin, end - begin), nsamples, out.subspan(begin, end - begin));
         if (options.progress) options.progress(end - begin);
@@ -95,6 +98,7 @@ void PointQueries::signed_distances(std::span<const Vec3> points, std::span<floa
                                     const BatchOptions& options) const {
     check_parity_samples(nsamples);
     check_sizes("signed distances", points.size(), out.size());
+    refuse_coherent("signed distances", options);
     for_each_closest_chunk(points, options.threads, [&](size_t begin, size_t end, const NearestPoint* closest) {
         uint8_t inside[kBatchGrain];
         inside_by_parity(accel_, points.subspan(begin, end - begin), nsamples, {inside, end - begin});

@@ -170,18 +170,21 @@ size_t closest_hits(const Accel& accel, const RayRows& rows, std::span<Hit> out,
 }
 
 size_t occlusions(const Accel& accel, const RayRows& rows, std::span<uint8_t> out, const BatchOptions& options) {
+    refuse_coherent("any-hit", options);
     return answer_rows<uint8_t>(rows, out, options, 0, [&](const RayChunk& c, uint8_t* occluded) {
-        accel.occluded_chunk(c.span(), {occluded, c.count}, options.coherent);
+        accel.occluded_chunk(c.span(), {occluded, c.count});
     });
 }
 
 size_t crossing_counts(const Accel& accel, const RayRows& rows, std::span<uint32_t> out, const BatchOptions& options) {
+    refuse_coherent("count", options);
     return answer_rows<uint32_t>(rows, out, options, 0, [&](const RayChunk& c, uint32_t* counts) {
         for (size_t k = 0; k < c.count; ++k) counts[k] = accel.count_hits(c.rays.data[k]);
     });
 }
 
 HitLists crossing_lists(const Accel& accel, const RayRows& rows, const BatchOptions& options) {
+    refuse_coherent("all-hits", options);
     const RayBatch batch = make_rays(rows, options.threads);
     HitLists lists = accel.all_hits(batch.rays, options);
     if (!batch.compacted) return lists;

@@ -182,6 +182,9 @@ TEST_F(DoubleRaysCli, FloatStructuresRefuseFloat64Rays) {
         EXPECT_FALSE(fs::exists(path("float.npy"))) << extra;
     }
     expect_refused(trace("bvh8", "", "float.npy"), {"precision=double", "'bvh8'"});
+    // No packet path in double: --coherent is refused, not ignored.
+    expect_refused(trace("bvh:precision=double", "--coherent", "float.npy"),
+                   {"--coherent does not apply here", "float64 rays"});
     // A saved structure is always float (precision=double is not saved).
     ASSERT_EQ(run("build " + q("far.ply") + " --accel bvh -o " + q("far.bvh")).code, 0);
     expect_refused(run("trace " + q("far.ply") + " --load " + q("far.bvh") + " --rays " + q("rays.npy") + " -o " +

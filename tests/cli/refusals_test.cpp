@@ -131,6 +131,22 @@ TEST_F(Refusals, OptionsThatDoNotApplyAreRefused) {
     EXPECT_TRUE(fs::exists(path("sp.png")));
 }
 
+// --coherent is closest-hit's packet path: refused where no packet path would take it, before any
+// output is written; taken with a closest-hit trace.
+TEST_F(Refusals, CoherentIsRefusedWhereNoPacketPathTakesIt) {
+    const std::vector<float> rays = {0, 1, 3, 0, 0, -1, 0, 1e30f, 0.2f, 1, 3, 0, 0, -1, 0, 1e30f};
+    thicket::write_npy_f32(path("rays.npy"), {2, 8}, rays);
+    const std::string trace = "trace cornell --coherent --rays " + q("rays.npy") + " -o " + q("h.npy");
+    for (const char* query : {"--any-hit", "--count", "--all"}) {
+        SCOPED_TRACE(query);
+        expect_refused(run(trace + " " + query), {"--coherent does not apply here", query});
+    }
+    EXPECT_FALSE(fs::exists(path("h.npy")));
+    const CliResult r = run(trace);
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_TRUE(fs::exists(path("h.npy")));
+}
+
 TEST_F(Refusals, NumbersAreReadStrictly) {
     const std::string render = "render cornell --integrator path --spp 1 -s 8x8 -o " + q("n.png") + " ";
     expect_refused(run(render + "--seed -1"), {"--seed", "'-1' is negative"}, 2);

@@ -206,7 +206,7 @@ std::string compare_with_reference(const Accel& accel, const Reference& ref, con
     BatchOptions coherent;
     coherent.coherent = true;
     accel.intersect(grouped, batch_hits, coherent);
-    accel.occluded(grouped, batch_occluded, coherent);
+    accel.occluded(grouped, batch_occluded);  // any hit has no packet path: coherent is refused
     std::vector<Hit> batch_hit_of(n);
     std::vector<uint8_t> batch_occluded_of(n);
     for (size_t k = 0; k < n; ++k) {

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <functional>
 #include <cmath>
 #include <iterator>
 #include <limits>
@@ -14,6 +15,7 @@
 #include "thicket/accel/ray_rows.h"
 #include "thicket/accel/registry.h"
 #include "thicket/core/error.h"
+#include "support/probe.h"
 
 namespace point_queries_test {
 
@@ -258,6 +260,50 @@ TEST(RayRows, EveryQueryAnswersRowsAsTheStructureAnswersRays) {
     EXPECT_GT(found, n / 10);
     std::vector<Hit> short_out(n - 1);
     EXPECT_THROW(closest_hits(*accel, rows, short_out), Error);
+}
+
+// `coherent` is the closest-hit packet path's hint: every batch without one refuses it (rows,
+// spans and points alike) instead of ignoring it, and closest hits take it with the same answers.
+TEST(RayRows, CoherentIsRefusedByEveryBatchWithoutAPacketPath) {
+    const Scene scene = torus_scene(1.0f, 0.4f, 16, 8);
+    const auto accel = build_accel("bvh8", scene);
+    const std::vector<float> data = {1.0f, 0.05f, 3, 0, 0, -1, 0, 100, 0.2f, 0.1f, 3, 0, 0, -1, 0, 100};  // the tube, the hole
+    const RayRows rows{data.data(), 2, 8};
+    std::vector<Ray> rays(2);
+    for (size_t i = 0; i < 2; ++i) ASSERT_TRUE(make_ray(&data[8 * i], rays[i]));
+    BatchOptions coherent;
+    coherent.coherent = true;
+    std::vector<Hit> hits(2);
+    std::vector<uint8_t> flags(2);
+    std::vector<uint32_t> counts(2);
+    const std::vector<Vec3> points = {{0, 0, 2}};
+    std::vector<NearestPoint> nearest(1);
+    std::vector<float> d(1);
+    std::vector<uint8_t> inside(1);
+    const PointQueries queries(*accel, scene);
+    const auto refused = [](const std::function<void()>& query, const std::string& name) {
+        try {
+            query();
+            ADD_FAILURE() << name << " took coherent";
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find(name + " batch: coherent"), std::string::npos) << e.what();
+        }
+    };
+    refused([&] { occlusions(*accel, rows, flags, coherent); }, "any-hit");
+    refused([&] { accel->occluded(rays, flags, coherent); }, "any-hit");
+    refused([&] { crossing_counts(*accel, rows, counts, coherent); }, "count");
+    refused([&] { accel->count_hits(rays, counts, coherent); }, "count");
+    refused([&] { crossing_lists(*accel, rows, coherent); }, "all-hits");
+    refused([&] { accel->all_hits(rays, coherent); }, "all-hits");
+    refused([&] { accel->closest_points(points, nearest, coherent); }, "closest-point");
+    refused([&] { queries.closest_points(points, nearest, coherent); }, "closest points");
+    refused([&] { queries.distances(points, d, coherent); }, "distances");
+    refused([&] { queries.occupancy(points, inside, 1, coherent); }, "occupancy");
+    refused([&] { queries.signed_distances(points, d, 1, coherent); }, "signed distances");
+    EXPECT_EQ(closest_hits(*accel, rows, hits, coherent), 0u);
+    for (size_t i = 0; i < 2; ++i) EXPECT_TRUE(thicket::testing::identical_hits(hits[i], accel->intersect(rays[i]))) << i;
+    EXPECT_TRUE(hits[0].found());
+    EXPECT_FALSE(hits[1].found());
 }
 
 }  // namespace point_queries_test

@@ -108,7 +108,7 @@ int run_animate(const BenchArgs& args) {
     parse_ray_set_size(args.size, options.rays);
     if (!args.camera.empty()) options.rays.camera = parse_camera(args.camera);
     const std::vector<AskedSpec> specs =
-        parse_accel_specs(args.accels.empty() ? std::vector<std::string>{"bvh8"} : args.accels);
+        parse_accel_specs(args.accels.empty() ? std::vector<std::string>{kDefaultSpec} : args.accels);
     std::vector<TracerFactory> tracers = thicket_tracers(specs);
     std::string embree_note = "Embree left out (--no-embree)";
 #if THICKET_HAVE_EMBREE

@@ -7,7 +7,7 @@
 
 #include "common.h"
 #include "point_commands.h"
-#include "thicket/accel/instances.h"
+#include "thicket/instances/instances.h"
 #include "thicket/accel/point_queries.h"
 #include "thicket/core/error.h"
 #include "thicket/util/npy.h"
@@ -19,7 +19,7 @@ namespace {
 
 struct PointArgs {
     std::string scene;
-    AccelChoice accel{"bvh8", ""};  // the fastest closest points (its 8-wide point traversal)
+    AccelChoice accel{kClosestPointSpec, ""};  // the fastest closest points (its 8-wide point traversal)
     std::string points;
     std::string output;
     unsigned threads = 0;
@@ -157,7 +157,7 @@ Command add_closest_command(CLI::App& app) {
 
 Command add_occupancy_command(CLI::App& app) {
     auto args = std::make_shared<PointArgs>();
-    args->accel = AccelChoice{"bvh8", ""};
+    args->accel = AccelChoice{kClosestPointSpec, ""};
     CLI::App* cmd = app.add_subcommand("occupancy", "whether each point of a .npy file lies inside the closed surface");
     cmd->footer("Input: float32 array of shape (N, 3), one point per row; every value finite (float64 is refused: "
                 "point queries are computed in float32 by every structure, precision=double ones included).\n"

@@ -171,6 +171,10 @@ int run_trace_double(const TraceArgs& args, const std::string& output, const Sce
 
 int run_trace(const TraceArgs& args) {
     if (args.any_hit + args.count + args.all > 1) throw Error("trace: choose one of --any-hit, --count and --all");
+    // The packet path is closest-hit's: refused where it would be ignored (the CLI's rule, common.h).
+    if (args.coherent && (args.any_hit || args.count || args.all))
+        throw Error(std::string("--coherent does not apply here: only closest-hit rays are traced in packets, and ") +
+                    (args.any_hit ? "--any-hit" : args.count ? "--count" : "--all") + " asks another query");
     const std::optional<AccelSpec> spec = validate_accel_choice(args.accel);
     const std::string output = prepare_output(args.output, args.force, {args.scene, args.rays, args.accel.load});
     const bool double_spec = spec && spec->options.count("precision") && spec->get("precision") == "double";
@@ -182,6 +186,9 @@ int run_trace(const TraceArgs& args) {
                         "bvh:precision=double or brute:precision=double), and " +
                         (spec ? "'" + args.accel.spec + "'" : std::string("a saved structure (--load)")) +
                         " is float32: build one with precision=double, or save the rays as float32");
+        if (args.coherent)
+            throw Error("--coherent does not apply here: " + args.rays +
+                        " holds float64 rays, which no structure traces in packets");
         return run_trace_double(args, output, load_scene_verbose(args.scene), *spec);
     }
     const NpyFloatArray rays = read_npy_matrix(args.rays, 8);
@@ -266,7 +273,8 @@ Command add_trace_command(CLI::App& app) {
                                       "(counted first: refused when the list would not fit in memory)");
     cmd->add_flag("--coherent", args->coherent,
                   "a hint that consecutive rays are neighbours (a camera's pixels in 4x4 tiles, or along a row): "
-                  "structures with a packet path (bvh8) then trace 16 at a time; the answers are the same");
+                  "structures with a packet path (bvh8) then trace 16 at a time; the answers are the same. Closest "
+                  "hits of float32 rays only: refused with --any-hit, --count, --all and float64 rays");
     add_threads_option(cmd, args->threads);
     return {cmd, [args] { return run_trace(*args); }};
 }

@@ -49,7 +49,7 @@ void add_accel_options(CLI::App* cmd, AccelChoice& choice, bool accel_required) 
         accel->required();
         return;
     }
-    accel->default_str(kDefaultAccel);
+    accel->default_str(kDefaultSpec);
     CLI::Option* load = cmd->add_option("--load", choice.load,
                                         "use a structure saved by `thicket build` instead of building one "
                                         "(it must have been built over the same scene)")

@@ -28,12 +28,9 @@ Command add_build_command(CLI::App& app);
 Command add_accels_command(CLI::App& app);
 Command add_compare_command(CLI::App& app);
 
-/// The --accel SPEC / --load FILE pair (mutually exclusive).
-/// The structure `render`, `trace` and `info` use without --accel: the fastest.
-inline constexpr const char* kDefaultAccel = "bvh8";
-
+/// The --accel SPEC / --load FILE pair (mutually exclusive); without either, kDefaultSpec.
 struct AccelChoice {
-    std::string spec = kDefaultAccel;
+    std::string spec = kDefaultSpec;
     std::string load;
 };
 

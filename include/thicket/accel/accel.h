@@ -52,11 +52,17 @@ struct BatchOptions {
     unsigned threads = 0;  ///< 0: all cores
     /// A hint that consecutive rays are neighbours (a camera's pixels in small tiles): structures
     /// with a packet path (bvh8) trace groups of them together. The answers are the same either way.
+    /// Closest-hit batches only: the any-hit, crossing and closest-point batches have no coherent
+    /// path and refuse it (refuse_coherent), so that a hint which changes nothing is not taken for one
+    /// that did.
     bool coherent = false;
     /// Called with the number of rays just finished, from whichever thread finished them (for a
     /// progress bar); may be empty. Must not throw.
     std::function<void(size_t)> progress;
 };
+
+/// Throws Error naming `query` when options.coherent is set for a batch without a coherent path.
+void refuse_coherent(const char* query, const BatchOptions& options);
 
 /// Two hits of one ray whose t differ by at most this much relative are one surface crossing
 /// (all_hits, count_hits): a ray through an edge or vertex shared by several triangles of a closed
@@ -124,7 +130,7 @@ public:
     /// Whether closest_point() answers for this structure and scene.
     virtual bool has_closest_point() const { return false; }
 
-    /// Batch forms of the three, on options.threads threads (coherent is ignored).
+    /// Batch forms of the three, on options.threads threads (options.coherent is refused: Error).
     void count_hits(std::span<const Ray> rays, std::span<uint32_t> counts, const BatchOptions& options = {}) const;
     HitLists all_hits(std::span<const Ray> rays, const BatchOptions& options = {}) const;
     void closest_points(std::span<const Vec3> points, std::span<NearestPoint> out, const BatchOptions& options = {}) const;
@@ -177,7 +183,7 @@ public:
     /// intersect()/occluded() ray by ray; a structure overrides them to trace groups of rays
     /// together, with the same answers.
     virtual void intersect_chunk(std::span<const Ray> rays, std::span<Hit> hits, bool coherent) const;
-    virtual void occluded_chunk(std::span<const Ray> rays, std::span<uint8_t> occluded, bool coherent) const;
+    virtual void occluded_chunk(std::span<const Ray> rays, std::span<uint8_t> occluded) const;
 
 protected:
 
