@@ -2,6 +2,11 @@
 # instruction set; the rest of the library stays at the x86-64 baseline, and cpuid picks the
 # kernels at run time. -ffp-contract=off: the kernels' results must be bitwise those of the
 # scalar tests, so no multiply-add may be fused behind our back.
+set(_bvh8_kernels kernels_scalar kernels_sse kernels_avx2 kernels_avx512)
+list(TRANSFORM _bvh8_kernels PREPEND ${PROJECT_SOURCE_DIR}/src/bvh8/)
+list(TRANSFORM _bvh8_kernels APPEND .cpp)
+# Each kernel file opens its own ISA namespace and is compiled with its own flags: never in a unity unit.
+set_source_files_properties(${_bvh8_kernels} PROPERTIES SKIP_UNITY_BUILD_INCLUSION ON)
 if(CMAKE_SYSTEM_PROCESSOR MATCHES "x86_64|AMD64|amd64" AND CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
   set(_bvh8 ${PROJECT_SOURCE_DIR}/src/bvh8)
   set_source_files_properties(${_bvh8}/kernels_scalar.cpp ${_bvh8}/kernels_sse.cpp

@@ -12,15 +12,11 @@
 
 namespace thicket {
 
-namespace {
-
-void check_sizes(const char* query, size_t rays, size_t answers) {
+void check_ray_answers(const char* query, size_t rays, size_t answers) {
     if (rays != answers)
         throw Error(std::string(query) + " batch: " + std::to_string(rays) + " rays but room for " +
                     std::to_string(answers) + " answers");
 }
-
-}  // namespace
 
 void refuse_coherent(const char* query, const BatchOptions& options) {
     if (options.coherent)
@@ -30,7 +26,7 @@ void refuse_coherent(const char* query, const BatchOptions& options) {
 }
 
 void Accel::intersect(std::span<const Ray> rays, std::span<Hit> hits, const BatchOptions& options) const {
-    check_sizes("closest-hit", rays.size(), hits.size());
+    check_ray_answers("closest-hit", rays.size(), hits.size());
     parallel_for(rays.size(), kBatchGrain, options.threads, [&](size_t begin, size_t end) {
         intersect_chunk(rays.subspan(begin, end - begin), hits.subspan(begin, end - begin), options.coherent);
         if (options.progress) options.progress(end - begin);
@@ -38,7 +34,7 @@ void Accel::intersect(std::span<const Ray> rays, std::span<Hit> hits, const Batc
 }
 
 void Accel::occluded(std::span<const Ray> rays, std::span<uint8_t> out, const BatchOptions& options) const {
-    check_sizes("any-hit", rays.size(), out.size());
+    check_ray_answers("any-hit", rays.size(), out.size());
     refuse_coherent("any-hit", options);
     parallel_for(rays.size(), kBatchGrain, options.threads, [&](size_t begin, size_t end) {
         occluded_chunk(rays.subspan(begin, end - begin), out.subspan(begin, end - begin));
@@ -86,7 +82,7 @@ NearestPoint Accel::closest_point(const Vec3&) const {
 }
 
 void Accel::count_hits(std::span<const Ray> rays, std::span<uint32_t> counts, const BatchOptions& options) const {
-    check_sizes("count", rays.size(), counts.size());
+    check_ray_answers("count", rays.size(), counts.size());
     refuse_coherent("count", options);
     parallel_for(rays.size(), kBatchGrain, options.threads, [&](size_t begin, size_t end) {
         // Cold rays, long per ray: the hardware prefetcher falls behind (10^6 Sponza rays counted
@@ -122,7 +118,7 @@ HitLists Accel::all_hits(std::span<const Ray> rays, const BatchOptions& options)
 
 void Accel::closest_points(std::span<const Vec3> points, std::span<NearestPoint> out,
                            const BatchOptions& options) const {
-    check_sizes("closest-point", points.size(), out.size());
+    check_ray_answers("closest-point", points.size(), out.size());
     refuse_coherent("closest-point", options);
     parallel_for(points.size(), kBatchGrain, options.threads, [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) out[i] = closest_point(points[i]);

@@ -15,19 +15,13 @@ namespace {
                 "'bvh:precision=double') for double-precision rays");
 }
 
-void check_double_sizes(const char* query, size_t rays, size_t answers) {
-    if (rays != answers)
-        throw Error(std::string(query) + " batch: " + std::to_string(rays) + " rays but room for " +
-                    std::to_string(answers) + " answers");
-}
-
 }  // namespace
 
 HitD Accel::intersect_double(const RayD&) const { refuse_double(spec()); }
 bool Accel::occluded_double(const RayD&) const { refuse_double(spec()); }
 
 void Accel::intersect_double(std::span<const RayD> rays, std::span<HitD> hits, const BatchOptions& options) const {
-    check_double_sizes("closest-hit", rays.size(), hits.size());
+    check_ray_answers("closest-hit", rays.size(), hits.size());
     refuse_coherent("float64 closest-hit", options);  // no packet path in double
     if (!double_precision()) refuse_double(spec());
     parallel_for(rays.size(), kBatchGrain, options.threads, [&](size_t begin, size_t end) {
@@ -37,7 +31,7 @@ void Accel::intersect_double(std::span<const RayD> rays, std::span<HitD> hits, c
 }
 
 void Accel::occluded_double(std::span<const RayD> rays, std::span<uint8_t> out, const BatchOptions& options) const {
-    check_double_sizes("any-hit", rays.size(), out.size());
+    check_ray_answers("any-hit", rays.size(), out.size());
     refuse_coherent("float64 any-hit", options);
     if (!double_precision()) refuse_double(spec());
     parallel_for(rays.size(), kBatchGrain, options.threads, [&](size_t begin, size_t end) {

@@ -19,7 +19,7 @@ constexpr Vec3 kParityDirections[] = {{0.5741f, 0.6327f, 0.5193f}, {-0.6811f, 0.
                                       {0.7823f, -0.2291f, -0.5792f}};
 static_assert(std::size(kParityDirections) == kMaxParitySamples);
 
-void check_sizes(const char* query, size_t points, size_t answers) {
+void check_point_answers(const char* query, size_t points, size_t answers) {
     if (points != answers)
         throw Error(std::string(query) + ": " + std::to_string(points) + " points but room for " +
                     std::to_string(answers) + " answers");
@@ -41,7 +41,7 @@ size_t first_non_finite(std::span<const Vec3> points) {
 
 void inside_by_parity(const Accel& accel, std::span<const Vec3> points, int nsamples, std::span<uint8_t> inside) {
     check_parity_samples(nsamples);
-    check_sizes("occupancy", points.size(), inside.size());
+    check_point_answers("occupancy", points.size(), inside.size());
     Ray rays[kBatchGrain];
     for (size_t begin = 0; begin < points.size(); begin += kBatchGrain) {
         const size_t n = std::min(kBatchGrain, points.size() - begin);
@@ -66,7 +66,7 @@ const Accel& PointQueries::closest_accel() const {
 
 void PointQueries::closest_points(std::span<const Vec3> points, std::span<NearestPoint> out,
                                   const BatchOptions& options) const {
-    check_sizes("closest points", points.size(), out.size());
+    check_point_answers("closest points", points.size(), out.size());
     refuse_coherent("closest points", options);
     for_each_closest_chunk(points, options.threads, [&](size_t begin, size_t end, const NearestPoint* closest) {
         std::copy(closest, closest + (end - begin), out.begin() + std::ptrdiff_t(begin));
@@ -75,7 +75,7 @@ void PointQueries::closest_points(std::span<const Vec3> points, std::span<Neares
 }
 
 void PointQueries::distances(std::span<const Vec3> points, std::span<float> out, const BatchOptions& options) const {
-    check_sizes("distances", points.size(), out.size());
+    check_point_answers("distances", points.size(), out.size());
     refuse_coherent("distances", options);
     for_each_closest_chunk(points, options.threads, [&](size_t begin, size_t end, const NearestPoint* closest) {
         for (size_t i = begin; i < end; ++i) out[i] = closest[i - begin].distance;
@@ -86,7 +86,7 @@ void PointQueries::distances(std::span<const Vec3> points, std::span<float> out,
 void PointQueries::occupancy(std::span<const Vec3> points, std::span<uint8_t> out, int nsamples,
                              const BatchOptions& options) const {
     check_parity_samples(nsamples);
-    check_sizes("occupancy", points.size(), out.size());
+    check_point_answers("occupancy", points.size(), out.size());
     refuse_coherent("occupancy", options);
     parallel_for(points.size(), kBatchGrain, options.threads, [&](size_t begin, size_t end) {
         inside_by_parity(accel_, points.subspan(begin, end - begin), nsamples, out.subspan(begin, end - begin));
@@ -97,7 +97,7 @@ void PointQueries::occupancy(std::span<const Vec3> points, std::span<uint8_t> ou
 void PointQueries::signed_distances(std::span<const Vec3> points, std::span<float> out, int nsamples,
                                     const BatchOptions& options) const {
     check_parity_samples(nsamples);
-    check_sizes("signed distances", points.size(), out.size());
+    check_point_answers("signed distances", points.size(), out.size());
     refuse_coherent("signed distances", options);
     for_each_closest_chunk(points, options.threads, [&](size_t begin, size_t end, const NearestPoint* closest) {
         uint8_t inside[kBatchGrain];

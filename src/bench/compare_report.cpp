@@ -16,7 +16,7 @@ namespace {
 using Align = TextTable::Align;
 const std::string kDash = "\u2014";  // em dash: not measured, or undefined for this structure
 
-std::string fixed3(double v) { return three_digits(v, kDash); }
+std::string fixed3_or_dash(double v) { return three_digits(v, kDash); }
 
 std::vector<unsigned> thread_counts(const std::vector<const CompareRow*>& rows) {
     std::vector<unsigned> threads;
@@ -58,7 +58,7 @@ std::string speed_cell(const CompareRow& r, const char* set, const std::vector<u
     for (unsigned t : threads) {
         const BenchRow* b = r.find(set, t);
         if (!cell.empty()) cell += " / ";
-        cell += b ? fixed3(b->mrays) : kDash;
+        cell += b ? fixed3_or_dash(b->mrays) : kDash;
         if (b && b->cpu_util < kDisturbedUtilization) {
             cell += "!";
             disturbed = true;
@@ -75,7 +75,7 @@ std::string speed_cell(const CompareRow& r, const char* set, const std::vector<u
 std::string work_cell(const CompareRow& r, const char* set, const std::vector<unsigned>& threads) {
     const BenchRow* b = threads.empty() ? nullptr : r.find(set, threads.front());
     if (!b || !b->nodes_per_ray || !b->prims_per_ray) return kDash;
-    return fixed3(*b->nodes_per_ray) + " / " + fixed3(*b->prims_per_ray);
+    return fixed3_or_dash(*b->nodes_per_ray) + " / " + fixed3_or_dash(*b->prims_per_ray);
 }
 
 std::string fit_range(const PowerFit& f) {
@@ -106,7 +106,7 @@ std::string scene_section(const std::vector<const CompareRow*>& rows, const Comp
     for (const CompareRow* r : rows) {
         const bool has_fit = r->growth && r->growth->fit.valid();
         table.add_row({r->accel, partitioning_name(r->partitioning),
-                       r->speed.empty() ? kDash : fixed3(r->build_ms()),
+                       r->speed.empty() ? kDash : fixed3_or_dash(r->build_ms()),
                        has_fit ? printf_string("%.2f", r->growth->fit.exponent) : kDash,
                        r->speed.empty() ? kDash : printf_string("%.1f", r->structure_bytes_per_primitive()),
                        r->sah_cost() > 0.0 ? printf_string("%.2f", r->sah_cost()) : kDash,
@@ -132,7 +132,7 @@ std::string scene_section(const std::vector<const CompareRow*>& rows, const Comp
                 std::string cell = kDash;
                 if (r->growth) {
                     for (const GrowthPoint& p : r->growth->points)
-                        if (p.n == n) cell = fixed3(p.build_ms);
+                        if (p.n == n) cell = fixed3_or_dash(p.build_ms);
                     if (r->growth->stopped_at && *r->growth->stopped_at == n) {
                         cell += "*";
                         stopped = true;

@@ -42,17 +42,15 @@ namespace {
 
 [[noreturn]] void invalid(const std::string& what) { throw Error("invalid OBB tree: " + what); }
 
-bool finite(Vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
 /// Throws unless node n's box is finite with non-negative extents and orthonormal axes.
 void check_box(const ObbNode& b, size_t n) {
     const std::string at = "node " + std::to_string(n) + ": ";
     for (int k = 0; k < 3; ++k)
-        if (!finite(b.axis[k]) || std::fabs(length(b.axis[k]) - 1.0f) > 1e-3f) invalid(at + "axis not of unit length");
+        if (!is_finite(b.axis[k]) || std::fabs(length(b.axis[k]) - 1.0f) > 1e-3f) invalid(at + "axis not of unit length");
     if (std::fabs(dot(b.axis[0], b.axis[1])) > 1e-3f || std::fabs(dot(b.axis[0], b.axis[2])) > 1e-3f ||
         std::fabs(dot(b.axis[1], b.axis[2])) > 1e-3f)
         invalid(at + "axes not orthogonal");
-    if (!finite(b.center) || !finite(b.half) || b.half.x < 0 || b.half.y < 0 || b.half.z < 0)
+    if (!is_finite(b.center) || !is_finite(b.half) || b.half.x < 0 || b.half.y < 0 || b.half.z < 0)
         invalid(at + "box not finite or with a negative extent");
 }
 

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
-#include <sstream>
 #include <string>
 
 #include "thicket/core/error.h"
@@ -14,13 +13,7 @@
 namespace thicket {
 namespace {
 
-using D3 = std::array<double, 3>;
-
-std::string str(double x) {
-    std::ostringstream s;
-    s << x;
-    return s.str();
-}
+using Point3d = std::array<double, 3>;  // as the distance estimators take it
 
 bool finite(double x) { return std::isfinite(x); }
 
@@ -28,13 +21,13 @@ void check_march(const FractalMarch& m, const std::string& type) {
     if (!finite(m.center.x) || !finite(m.center.y) || !finite(m.center.z))
         throw Error(type + ": center must be finite");
     if (!(m.scale > 0.0f) || !finite(m.scale))
-        throw Error(type + ": scale must be positive and finite, got " + str(m.scale));
+        throw Error(type + ": scale must be positive and finite, got " + format_number(m.scale));
     if (m.iterations < 1 || m.iterations > 1000)
         throw Error(type + ": iterations must be in 1..1000, got " + std::to_string(m.iterations));
     if (!(m.epsilon > 0.0) || !finite(m.epsilon))
-        throw Error(type + ": epsilon must be positive and finite, got " + str(m.epsilon));
+        throw Error(type + ": epsilon must be positive and finite, got " + format_number(m.epsilon));
     if (!(m.step_factor > 0.0 && m.step_factor <= 1.0))
-        throw Error(type + ": step-factor must be in (0, 1], got " + str(m.step_factor));
+        throw Error(type + ": step-factor must be in (0, 1], got " + format_number(m.step_factor));
     if (m.max_steps < 1) throw Error(type + ": max-steps must be at least 1, got " + std::to_string(m.max_steps));
     // A ray costs up to max_steps distance estimates of `iterations` map iterations each (the
     // final bisection is bounded by double precision): each limit alone allowed 1000 x 2^24
@@ -59,7 +52,7 @@ Aabb sphere_bounds(const FractalMarch& m, double radius, const std::string& type
     }
     for (int k = 0; k < 3; ++k)
         if (!finite(b.min[k]) || !finite(b.max[k]))
-            throw Error(type + ": the bounds overflow float (scale " + str(m.scale) + ")");
+            throw Error(type + ": the bounds overflow float (scale " + format_number(m.scale) + ")");
     return b;
 }
 
@@ -95,7 +88,7 @@ bool sphere_segment(const FractalMarch& m, double radius, const Ray& ray, float 
 template <class De>
 std::optional<double> march(const De& de, const FractalSegment& s, const FractalMarch& m, double limit) {
     const double dlen = std::sqrt(s.d[0] * s.d[0] + s.d[1] * s.d[1] + s.d[2] * s.d[2]);
-    auto at = [&](double t) { return D3{s.o[0] + t * s.d[0], s.o[1] + t * s.d[1], s.o[2] + t * s.d[2]}; };
+    auto at = [&](double t) { return Point3d{s.o[0] + t * s.d[0], s.o[1] + t * s.d[1], s.o[2] + t * s.d[2]}; };
     double t = s.t0;
     double dist = de(at(t));
     if (dist < m.epsilon) return t;
@@ -139,22 +132,22 @@ bool march_hit(const De& de, const FractalMarch& m, double radius, const Ray& ra
 
 /// Central differences of de at q with step h, normalized; radial or +z where they vanish.
 template <class De>
-Vec3 de_normal(const De& de, const D3& q, double h) {
-    D3 g;
+Vec3 de_normal(const De& de, const Point3d& q, double h) {
+    Point3d g;
     for (int k = 0; k < 3; ++k) {
-        D3 a = q, b = q;
+        Point3d a = q, b = q;
         a[k] += h;
         b[k] -= h;
         g[k] = de(a) - de(b);
     }
-    for (const D3& v : {g, q}) {
+    for (const Point3d& v : {g, q}) {
         const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
         if (len > 0.0 && finite(len)) return Vec3(float(v[0] / len), float(v[1] / len), float(v[2] / len));
     }
     return Vec3(0.0f, 0.0f, 1.0f);
 }
 
-D3 object_point(const FractalMarch& m, Vec3 p) {
+Point3d object_point(const FractalMarch& m, Vec3 p) {
     return {(double(p.x) - m.center.x) / m.scale, (double(p.y) - m.center.y) / m.scale,
             (double(p.z) - m.center.z) / m.scale};
 }
@@ -181,16 +174,16 @@ Julia::Julia(const Params& p) : p_(p) {
     const std::string type = "julia";
     check_march(p.march, type);
     for (double x : p.c)
-        if (!finite(x)) throw Error(type + ": c must be finite, got component " + str(x));
+        if (!finite(x)) throw Error(type + ": c must be finite, got component " + format_number(x));
     if (!finite(p.w)) throw Error(type + ": w must be finite");
     const double cn = std::sqrt(p.c[0] * p.c[0] + p.c[1] * p.c[1] + p.c[2] * p.c[2] + p.c[3] * p.c[3]);
     set_radius_ = 0.5 + std::sqrt(0.25 + cn);
     if (!(p.bailout >= set_radius_) || !finite(p.bailout))
-        throw Error(type + ": bailout " + str(p.bailout) + " is below the set's radius " + str(set_radius_) +
+        throw Error(type + ": bailout " + format_number(p.bailout) + " is below the set's radius " + format_number(set_radius_) +
                     " (0.5 + sqrt(0.25 + |c|)): points of the set would count as escaped");
     if (!(std::fabs(p.w) < set_radius_))
-        throw Error(type + ": the slice w = " + str(p.w) + " misses the set (|w| must be below " +
-                    str(set_radius_) + ")");
+        throw Error(type + ": the slice w = " + format_number(p.w) + " misses the set (|w| must be below " +
+                    format_number(set_radius_) + ")");
     bound_radius_ = std::sqrt(set_radius_ * set_radius_ - p.w * p.w) + bounding_margin(set_radius_, p.march.epsilon);
     bounds_ = sphere_bounds(p.march, bound_radius_, type);
 }
@@ -222,11 +215,11 @@ bool Julia::object_segment(const Ray& ray, float tmax, FractalSegment& seg) cons
 }
 
 bool Julia::intersect(const Ray& ray, float tmax, ShapeHit& hit) const {
-    return march_hit([this](const D3& q) { return distance(q); }, p_.march, bound_radius_, ray, tmax, hit);
+    return march_hit([this](const Point3d& q) { return distance(q); }, p_.march, bound_radius_, ray, tmax, hit);
 }
 
 Vec3 Julia::normal(Vec3 p, float, float) const {
-    return de_normal([this](const D3& q) { return distance(q); }, object_point(p_.march, p), 0.5 * p_.march.epsilon);
+    return de_normal([this](const Point3d& q) { return distance(q); }, object_point(p_.march, p), 0.5 * p_.march.epsilon);
 }
 
 uint64_t Julia::hash(uint64_t h) const {
@@ -242,10 +235,10 @@ Mandelbulb::Mandelbulb(const Params& p) : p_(p) {
     const std::string type = "mandelbulb";
     check_march(p.march, type);
     if (!(p.power >= 2.0 && p.power <= 32.0))
-        throw Error(type + ": power must be in [2, 32], got " + str(p.power));
+        throw Error(type + ": power must be in [2, 32], got " + format_number(p.power));
     set_radius_ = std::pow(2.0, 1.0 / (p.power - 1.0));
     if (!(p.bailout >= set_radius_) || !finite(p.bailout))
-        throw Error(type + ": bailout " + str(p.bailout) + " is below the set's radius " + str(set_radius_) +
+        throw Error(type + ": bailout " + format_number(p.bailout) + " is below the set's radius " + format_number(set_radius_) +
                     " (2^(1/(power-1))): points of the set would count as escaped");
     bound_radius_ = set_radius_ + bounding_margin(set_radius_, p.march.epsilon);
     bounds_ = sphere_bounds(p.march, bound_radius_, type);
@@ -279,11 +272,11 @@ bool Mandelbulb::object_segment(const Ray& ray, float tmax, FractalSegment& seg)
 }
 
 bool Mandelbulb::intersect(const Ray& ray, float tmax, ShapeHit& hit) const {
-    return march_hit([this](const D3& q) { return distance(q); }, p_.march, bound_radius_, ray, tmax, hit);
+    return march_hit([this](const Point3d& q) { return distance(q); }, p_.march, bound_radius_, ray, tmax, hit);
 }
 
 Vec3 Mandelbulb::normal(Vec3 p, float, float) const {
-    return de_normal([this](const D3& q) { return distance(q); }, object_point(p_.march, p), 0.5 * p_.march.epsilon);
+    return de_normal([this](const Point3d& q) { return distance(q); }, object_point(p_.march, p), 0.5 * p_.march.epsilon);
 }
 
 uint64_t Mandelbulb::hash(uint64_t h) const {

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
-#include <sstream>
 #include <type_traits>
 #include <utility>
 
@@ -213,18 +212,10 @@ std::optional<double> sphere_trace_first_root(const E& e, double a, double b, do
     return std::nullopt;
 }
 
-bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
-std::string str(double x) {
-    std::ostringstream s;
-    s << x;
-    return s.str();
-}
-
 void check_surface(const TangleCube&) {}
 void check_surface(const BarthSextic& s) {
     if (!(s.clip > 0.0) || !std::isfinite(s.clip))
-        throw Error("implicit barth-sextic: clip must be positive and finite, got " + str(s.clip));
+        throw Error("implicit barth-sextic: clip must be positive and finite, got " + format_number(s.clip));
 }
 void check_surface(const BlobSum& s) {
     if (s.blobs.empty()) throw Error("blobs: at least one blob is needed");
@@ -232,17 +223,17 @@ void check_surface(const BlobSum& s) {
         throw Error("blobs: " + std::to_string(s.blobs.size()) + " blobs, more than " + std::to_string(kMaxBlobs) +
                     " (the bound that keeps the work per ray bounded)");
     if (!(s.threshold > 0.0) || !std::isfinite(s.threshold))
-        throw Error("blobs: threshold must be positive and finite, got " + str(s.threshold));
+        throw Error("blobs: threshold must be positive and finite, got " + format_number(s.threshold));
     for (size_t i = 0; i < s.blobs.size(); ++i) {
         const Blob& b = s.blobs[i];
         const std::string which = "blobs: blob " + std::to_string(i) + ": ";
         for (int k = 0; k < 3; ++k)
             if (!std::isfinite(b.center[k]))
-                throw Error(which + "center coordinate " + str(b.center[k]) + " is not finite");
+                throw Error(which + "center coordinate " + format_number(b.center[k]) + " is not finite");
         if (!(b.radius > 0.0) || !std::isfinite(b.radius))
-            throw Error(which + "radius must be positive and finite, got " + str(b.radius));
+            throw Error(which + "radius must be positive and finite, got " + format_number(b.radius));
         if (!(b.weight > 0.0) || !std::isfinite(b.weight))
-            throw Error(which + "weight must be positive and finite, got " + str(b.weight));
+            throw Error(which + "weight must be positive and finite, got " + format_number(b.weight));
     }
 }
 
@@ -286,12 +277,12 @@ template <class S>
 ImplicitKernel<S>::ImplicitKernel(S surface, const ImplicitOptions& options)
     : surface_(std::move(surface)), options_(options) {
     check_surface(surface_);
-    if (!finite(options.center)) throw Error("implicit: center must be finite");
+    if (!is_finite(options.center)) throw Error("implicit: center must be finite");
     if (!(options.scale > 0.0f) || !std::isfinite(options.scale))
-        throw Error("implicit: scale must be positive and finite, got " + str(options.scale));
+        throw Error("implicit: scale must be positive and finite, got " + format_number(options.scale));
     if (!(options.epsilon >= 0.0) || !std::isfinite(options.epsilon))
         throw Error("implicit: epsilon must be positive and finite (or 0 for the default), got " +
-                    str(options.epsilon));
+                    format_number(options.epsilon));
     if (options.max_steps < 1)
         throw Error("implicit: max-steps must be at least 1, got " + std::to_string(options.max_steps));
     // Each sphere-tracing step evaluates every term of f (every blob the ray passes near).
@@ -312,9 +303,9 @@ ImplicitKernel<S>::ImplicitKernel(S surface, const ImplicitOptions& options)
     // The world box is computed in double and then rounded outward: it encloses the object box
     // up to double rounding, far below the slab test's slack.
     bounds_ = outward_box(lo, hi);
-    if (!finite(bounds_.min) || !finite(bounds_.max))
-        throw Error("implicit: the shape's bounds overflow float (center " + str(options.center.x) + ", scale " +
-                    str(options.scale) + ")");
+    if (!is_finite(bounds_.min) || !is_finite(bounds_.max))
+        throw Error("implicit: the shape's bounds overflow float (center " + format_number(options.center.x) + ", scale " +
+                    format_number(options.scale) + ")");
     epsilon_ = options.epsilon > 0.0 ? options.epsilon : 1e-6 * std::sqrt(diag2);
     lipschitz_ = lipschitz_of(surface_, box_);
 }

@@ -9,14 +9,11 @@
 #include <vector>
 
 #include "thicket/core/error.h"
+#include "thicket/render/sampling.h"  // kPi
 
 namespace thicket {
 
 namespace {
-
-constexpr float kPi = 3.14159265358979323846f;
-
-bool finite(Vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 std::string_view trim(std::string_view s) {
     while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
@@ -42,13 +39,13 @@ std::string vec_text(Vec3 v) {
 
 Camera::Camera(Vec3 position, Vec3 target, Vec3 up, float fov_degrees)
     : position_(position), target_(target), fov_(fov_degrees) {
-    if (!finite(position) || !finite(target) || !finite(up))
+    if (!is_finite(position) || !is_finite(target) || !is_finite(up))
         throw Error("camera: position, target and up must be finite numbers");
     if (!(fov_degrees > 0.0f && fov_degrees < 180.0f))
         throw Error("camera: field of view " + std::to_string(fov_degrees) + " is not in (0, 180) degrees");
     const Vec3 view = target - position;
     if (view == Vec3{0.0f}) throw Error("camera: position and target are the same point");
-    if (!finite(view))
+    if (!is_finite(view))
         throw Error("camera: from " + vec_text(position) + " to " + vec_text(target) +
                     " the view direction passes float's range (3.4e38): bring the target closer");
     forward_ = unit(view);
@@ -62,7 +59,7 @@ Camera::Camera(Vec3 position, Vec3 target, Vec3 up, float fov_degrees)
         }
     }
     up_ = cross(right_, forward_);
-    if (!finite(forward_) || !finite(right_) || !finite(up_) || right_ == Vec3{0.0f})
+    if (!is_finite(forward_) || !is_finite(right_) || !is_finite(up_) || right_ == Vec3{0.0f})
         throw Error("camera: no view frame from " + vec_text(position) + " toward " + vec_text(target));
     tan_half_ = std::tan(0.5f * fov_ * kPi / 180.0f);
 }
@@ -94,7 +91,7 @@ Camera auto_camera(const Aabb& bounds, float aspect) {
     if (!(aspect > 0.0f) || !std::isfinite(aspect)) throw Error("auto_camera: aspect ratio must be positive");
     constexpr float kElevation = 10.0f * kPi / 180.0f;
     const Vec3 toward_camera{0.0f, std::sin(kElevation), std::cos(kElevation)};
-    if (bounds.empty() || !finite(bounds.min) || !finite(bounds.max)) return Camera(toward_camera, Vec3{0.0f});
+    if (bounds.empty() || !is_finite(bounds.min) || !is_finite(bounds.max)) return Camera(toward_camera, Vec3{0.0f});
 
     const Vec3 centre = bounds.center();
     // The frame is fixed by the direction alone, so build a unit-distance camera to read it.
@@ -115,7 +112,7 @@ Camera auto_camera(const Aabb& bounds, float aspect) {
     const float scale = std::max(1.0f, length(centre));
     const float distance = needed > 1e-6f * scale ? 1.05f * needed : 1.0f;
     const Vec3 position = centre + toward_camera * distance;
-    if (!finite(position) || !std::isfinite(distance))
+    if (!is_finite(position) || !std::isfinite(distance))
         throw Error("automatic camera: the scene's bounds (extent up to " + std::to_string(std::max({bounds.max.x - bounds.min.x, bounds.max.y - bounds.min.y, bounds.max.z - bounds.min.z})) +
                     ") are too large to frame in float coordinates; give --camera");
     return Camera(position, centre);

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "thicket/core/error.h"  // format_number
 #include "thicket/scene/scene.h"
 
 namespace thicket::json_scene {
@@ -83,7 +84,5 @@ void parse_instances(const nlohmann::json& instances, const std::string& path, c
 
 /// A JSON value for an error message, shortened.
 std::string describe(const nlohmann::json& v);
-/// A number for an error message (%g).
-std::string format_number(double x);
 
 }  // namespace thicket::json_scene

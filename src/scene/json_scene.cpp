@@ -48,12 +48,6 @@ bool is_float_finite(double x) {
 
 }  // namespace
 
-std::string format_number(double x) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%g", x);
-    return buf;
-}
-
 std::string describe(const json& v) {
     std::string s = v.dump();
     if (s.size() > 40) s = s.substr(0, 37) + "...";

@@ -23,7 +23,6 @@ namespace {
 using tetra_detail::TetgenInput;
 using tetra_detail::TetgenResult;
 
-D3 d3(Vec3 v) { return {v.x, v.y, v.z}; }
 
 /// Hash of three 32-bit words (a vertex's coordinate bits, a face's sorted vertex ids).
 struct BitsHash {
@@ -39,7 +38,7 @@ struct Cleaned {
     std::vector<uint32_t> prims;  ///< scene id of each triangle of `in`
 };
 
-Cleaned clean(const TetraInput& input, std::vector<uint32_t>& fallback, D3& lo, D3& hi) {
+Cleaned clean(const TetraInput& input, std::vector<uint32_t>& fallback, Vec3d& lo, Vec3d& hi) {
     Cleaned c;
     std::unordered_map<std::array<uint32_t, 3>, int, BitsHash> ids;
     std::unordered_map<std::array<uint32_t, 3>, int, BitsHash> seen;  // sorted vertex ids
@@ -62,8 +61,8 @@ Cleaned clean(const TetraInput& input, std::vector<uint32_t>& fallback, D3& lo, 
             tri[k] = uint32_t(it->second);
         }
         // Degenerate: repeated vertices, or an area TetGen's tolerance would take for none.
-        const D3 a = d3(t[0]), e1 = d3(t[1]) - a, e2 = d3(t[2]) - a, e3 = d3(t[2]) - d3(t[1]);
-        const D3 n = cross(e1, e2);
+        const Vec3d a = Vec3d(t[0]), e1 = Vec3d(t[1]) - a, e2 = Vec3d(t[2]) - a, e3 = Vec3d(t[2]) - Vec3d(t[1]);
+        const Vec3d n = cross(e1, e2);
         const double longest = std::max({dot(e1, e1), dot(e2, e2), dot(e3, e3)});
         std::array<uint32_t, 3> key = tri;
         std::sort(key.begin(), key.end());
@@ -79,8 +78,8 @@ Cleaned clean(const TetraInput& input, std::vector<uint32_t>& fallback, D3& lo, 
     }
     // The box: the meshed triangles' bounds grown by a tenth of their largest extent.
     const float grow = std::max(max_component(box.extent()) * 0.1f, 1e-30f);
-    lo = d3(box.min - Vec3(grow));
-    hi = d3(box.max + Vec3(grow));
+    lo = Vec3d(box.min - Vec3(grow));
+    hi = Vec3d(box.max + Vec3(grow));
     for (int corner = 0; corner < 8; ++corner) {
         c.in.points.push_back(corner & 1 ? hi.x : lo.x);
         c.in.points.push_back(corner & 2 ? hi.y : lo.y);
@@ -146,14 +145,14 @@ void assemble(const TetgenResult& r, const Cleaned& c, const TetraInput& input, 
         const int marker = o.face_markers[f];
         if (marker < 1 || size_t(marker) > c.prims.size()) continue;
         const int* v = &o.faces[3 * f];
-        const D3 n = cross(m.points[v[1]] - m.points[v[0]], m.points[v[2]] - m.points[v[0]]);
+        const Vec3d n = cross(m.points[v[1]] - m.points[v[0]], m.points[v[2]] - m.points[v[0]]);
         covered[size_t(marker) - 1] += 0.5 * std::sqrt(dot(n, n));
         for (int k = 0; k < 3; ++k) at.push_back({uint32_t(v[k]), uint32_t(marker - 1)});
     }
     std::vector<uint8_t> meshed(c.prims.size(), 0);
     for (size_t t = 0; t < c.prims.size(); ++t) {
         const std::array<Vec3, 3> v = input.triangle(c.prims[t]);
-        const D3 n = cross(d3(v[1]) - d3(v[0]), d3(v[2]) - d3(v[0]));
+        const Vec3d n = cross(Vec3d(v[1]) - Vec3d(v[0]), Vec3d(v[2]) - Vec3d(v[0]));
         const double area = 0.5 * std::sqrt(dot(n, n));
         meshed[t] = std::fabs(covered[t] - area) <= 1e-6 * area;
         if (!meshed[t]) data.fallback.push_back(c.prims[t]);
@@ -203,7 +202,7 @@ void index_starts(TetraMesh& m) {
     for (uint32_t z = 0; z < r; ++z)
         for (uint32_t y = 0; y < r; ++y)
             for (uint32_t x = 0; x < r; ++x) {
-                const D3 p{m.box_min.x + (m.box_max.x - m.box_min.x) * (x + 0.5) / r,
+                const Vec3d p{m.box_min.x + (m.box_max.x - m.box_min.x) * (x + 0.5) / r,
                            m.box_min.y + (m.box_max.y - m.box_min.y) * (y + 0.5) / r,
                            m.box_min.z + (m.box_max.z - m.box_min.z) * (z + 0.5) / r};
                 t = tetra_detail::locate(m, p, t, [] {});
@@ -217,7 +216,7 @@ TetraData build_tetra(const TetraInput& input, const TetraBuildOptions& options)
     TetraData data;
     data.report.input_triangles = 0;
     for (uint32_t i = 0; i < input.count; ++i) data.report.input_triangles += input.is_triangle(i);
-    D3 lo, hi;
+    Vec3d lo, hi;
     Cleaned c = clean(input, data.fallback, lo, hi);
     if (c.prims.size() > options.max_triangles) {
         note(data.report, std::to_string(c.prims.size()) + " triangles to mesh, over max-triangles=" +

@@ -26,16 +26,12 @@
 #include "thicket/bvh/build.h"
 #include "thicket/core/error.h"
 #include "thicket/tetra/build.h"
+#include "tetra/invalid.h"
 #include "thicket/tetra/walk.h"
 
 namespace thicket {
 
 namespace {
-
-[[noreturn]] void invalid(const std::string& what) { throw Error("invalid tetra structure: " + what); }
-
-D3 d3(Vec3 v) { return {v.x, v.y, v.z}; }
-double norm(const D3& v) { return std::sqrt(dot(v, v)); }
 
 /// Face k of tetrahedron t: its vertex ids sorted, and whether face_plane() negates the normal
 /// of the sorted vertices (the parity face_plane computes).
@@ -65,25 +61,25 @@ void prove_tiling(const TetraMesh& m) {
     for (size_t i = 0; i < m.points.size(); ++i)
         for (int a = 0; a < 3; ++a)
             if (!(m.points[i][a] >= m.box_min[a] && m.points[i][a] <= m.box_max[a]))
-                invalid("vertex " + std::to_string(i) + " lies outside the box");
+                invalid_tetra("vertex " + std::to_string(i) + " lies outside the box");
     double volume = 0;
     for (size_t t = 0; t < tets; ++t) {
         const uint32_t* v = &m.tets[4 * t];
         const std::string at = "tetrahedron " + std::to_string(t);
         for (int i = 0; i < 4; ++i)
             for (int j = i + 1; j < 4; ++j)
-                if (v[i] == v[j]) invalid(at + " repeats vertex " + std::to_string(v[i]));
+                if (v[i] == v[j]) invalid_tetra(at + " repeats vertex " + std::to_string(v[i]));
         // Positive: each vertex behind the opposite face's outward plane. Rounding of the
         // determinant is below 1e-15 of the cube of the longest edge; a sliver TetGen made
         // (positive in exact arithmetic) can come out of double at most that far negative.
         double longest = 0;
         for (int i = 0; i < 4; ++i)
-            for (int j = i + 1; j < 4; ++j) longest = std::max(longest, norm(m.points[v[i]] - m.points[v[j]]));
+            for (int j = i + 1; j < 4; ++j) longest = std::max(longest, length(m.points[v[i]] - m.points[v[j]]));
         const double slack = 1e-12 * longest * longest * longest;
         for (int k = 0; k < 4; ++k) {
-            D3 n, a;
+            Vec3d n, a;
             tetra_detail::face_plane(m, uint32_t(t), k, n, a);
-            if (!(dot(n, a - m.points[v[k]]) >= -slack)) invalid(at + " is inverted (vertex " + std::to_string(k) +
+            if (!(dot(n, a - m.points[v[k]]) >= -slack)) invalid_tetra(at + " is inverted (vertex " + std::to_string(k) +
                                                                  " in front of its opposite face)");
         }
         volume += tetra_detail::orient(m.points[v[0]], m.points[v[1]], m.points[v[2]], m.points[v[3]]);
@@ -98,34 +94,34 @@ void prove_tiling(const TetraMesh& m) {
                     for (const double side : {m.box_min[a], m.box_max[a]})
                         on_box = on_box || (m.points[f.v[0]][a] == side && m.points[f.v[1]][a] == side &&
                                             m.points[f.v[2]][a] == side);
-                if (!on_box) invalid(face + " has no neighbour but is not on the box");
+                if (!on_box) invalid_tetra(face + " has no neighbour but is not on the box");
                 continue;
             }
-            if (u == t) invalid(face + " is its own neighbour");
+            if (u == t) invalid_tetra(face + " is its own neighbour");
             int back = -1;
             for (int j = 0; j < 4; ++j)
                 if (m.neighbors[4 * size_t(u) + size_t(j)] == t) back = j;
-            if (back < 0) invalid(face + ": neighbour " + std::to_string(u) + " does not name it back");
+            if (back < 0) invalid_tetra(face + ": neighbour " + std::to_string(u) + " does not name it back");
             const Face g = face_of(m, u, back);
-            if (g.v != f.v) invalid(face + " and its neighbour " + std::to_string(u) + " do not share the face");
-            if (g.flip == f.flip) invalid(face + " and its neighbour " + std::to_string(u) + " lie on the same side of it");
+            if (g.v != f.v) invalid_tetra(face + " and its neighbour " + std::to_string(u) + " do not share the face");
+            if (g.flip == f.flip) invalid_tetra(face + " and its neighbour " + std::to_string(u) + " lie on the same side of it");
             if (m.face_tris[4 * t + size_t(k)] != m.face_tris[4 * size_t(u) + size_t(back)])
-                invalid(face + " and its neighbour " + std::to_string(u) + " carry different triangles");
+                invalid_tetra(face + " and its neighbour " + std::to_string(u) + " carry different triangles");
         }
     }
     // The sum of the (rounded) volumes of a once-covered box: exact up to 1e-15 per tetrahedron
     // of the box's bounding cube; a second cover, or a hole, would change it by a tetrahedron.
-    const D3 e = m.box_max - m.box_min;
+    const Vec3d e = m.box_max - m.box_min;
     const double box = 6.0 * e.x * e.y * e.z, cube = std::pow(std::max({e.x, e.y, e.z}), 3.0);
     if (!(std::fabs(volume - box) <= 1e-7 * box + 1e-14 * double(tets) * cube))
-        invalid("the tetrahedra's volumes do not add up to the box's (they overlap or leave a hole)");
+        invalid_tetra("the tetrahedra's volumes do not add up to the box's (they overlap or leave a hole)");
 }
 
 /// Signed distance of p from the line of edge (a, b) of a triangle of normal n, positive
 /// inside the triangle.
-double inside(const D3& a, const D3& b, const D3& n, const D3& p) {
-    const D3 edge = b - a;
-    return dot(cross(edge, p - a), n) / (norm(edge) * norm(n));
+double inside(const Vec3d& a, const Vec3d& b, const Vec3d& n, const Vec3d& p) {
+    const Vec3d edge = b - a;
+    return dot(cross(edge, p - a), n) / (length(edge) * length(n));
 }
 
 /// Part 2: every meshed triangle covered by the faces that carry it.
@@ -150,28 +146,28 @@ void prove_carried(const TetraMesh& m, const TetraInput& input) {
         size_t end = begin;
         while (end < faces.size() && faces[end].first == p) ++end;
         const std::string tri = "triangle " + std::to_string(p);
-        if (!input.is_triangle(p)) invalid("a face carries primitive " + std::to_string(p) + ", not a triangle");
+        if (!input.is_triangle(p)) invalid_tetra("a face carries primitive " + std::to_string(p) + ", not a triangle");
         carried[p] = 1;
         const std::array<Vec3, 3> c = input.triangle(p);
-        const D3 a = d3(c[0]), b = d3(c[1]), d = d3(c[2]);
-        const D3 n = cross(b - a, d - a);
+        const Vec3d a = Vec3d(c[0]), b = Vec3d(c[1]), d = Vec3d(c[2]);
+        const Vec3d n = cross(b - a, d - a);
         // Tolerance: TetGen's Steiner points on the triangle are rounded to double (error a few
         // 1e-16 of their coordinates); the builder meshes only triangles taller than 1e-6 of
         // their longest edge, far above it.
         double magnitude = 0;
-        for (const D3& q : {a, b, d})
+        for (const Vec3d& q : {a, b, d})
             for (int i = 0; i < 3; ++i) magnitude = std::max(magnitude, std::fabs(q[i]));
-        const double tol = 1e-12 * magnitude + 1e-9 * std::max({norm(b - a), norm(d - a), norm(d - b)});
-        const D3 corners[3] = {a, b, d};
+        const double tol = 1e-12 * magnitude + 1e-9 * std::max({length(b - a), length(d - a), length(d - b)});
+        const Vec3d corners[3] = {a, b, d};
         // Which edges of the triangle (bit e: from corner e to e+1) vertex x lies on.
         auto on_edges = [&](uint32_t x) {
-            const D3& q = m.points[x];
-            if (!(std::fabs(dot(n, q - a)) <= tol * norm(n)))
-                invalid(tri + ": vertex " + std::to_string(x) + " of a face carrying it is off its plane");
+            const Vec3d& q = m.points[x];
+            if (!(std::fabs(dot(n, q - a)) <= tol * length(n)))
+                invalid_tetra(tri + ": vertex " + std::to_string(x) + " of a face carrying it is off its plane");
             unsigned bits = 0;
             for (int e = 0; e < 3; ++e) {
                 const double s = inside(corners[e], corners[(e + 1) % 3], n, q);
-                if (!(s >= -tol)) invalid(tri + ": vertex " + std::to_string(x) + " of a face carrying it is outside it");
+                if (!(s >= -tol)) invalid_tetra(tri + ": vertex " + std::to_string(x) + " of a face carrying it is outside it");
                 if (s <= tol) bits |= 1u << e;
             }
             return bits;
@@ -182,7 +178,7 @@ void prove_carried(const TetraMesh& m, const TetraInput& input) {
             for (uint32_t x : f) {
                 const auto first = listed.begin() + m.vertex_offsets[x], last = listed.begin() + m.vertex_offsets[x + 1];
                 if (!std::binary_search(first, last, p))
-                    invalid(tri + " is carried by a face at vertex " + std::to_string(x) + ", which does not list it");
+                    invalid_tetra(tri + " is carried by a face at vertex " + std::to_string(x) + ", which does not list it");
             }
             // The face's vertices are sorted: each edge is keyed smaller id first.
             for (auto [x, y] : {std::pair{f[0], f[1]}, std::pair{f[1], f[2]}, std::pair{f[0], f[2]}})
@@ -192,7 +188,7 @@ void prove_carried(const TetraMesh& m, const TetraInput& input) {
             const uint32_t x = uint32_t(key >> 32), y = uint32_t(key);
             if (count == 2) continue;
             if (count == 1 && (on_edges(x) & on_edges(y)) != 0) continue;
-            invalid(tri + ": the faces carrying it leave a gap or overlap at the edge between vertices " +
+            invalid_tetra(tri + ": the faces carrying it leave a gap or overlap at the edge between vertices " +
                     std::to_string(x) + " and " + std::to_string(y));
         }
         for (size_t i = begin; i < end; ++i)
@@ -200,7 +196,7 @@ void prove_carried(const TetraMesh& m, const TetraInput& input) {
         begin = end;
     }
     for (uint32_t p : m.vertex_tris)
-        if (!carried[p]) invalid("triangle " + std::to_string(p) + " is meshed but no face carries it");
+        if (!carried[p]) invalid_tetra("triangle " + std::to_string(p) + " is meshed but no face carries it");
 }
 
 }  // namespace

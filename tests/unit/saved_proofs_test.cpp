@@ -224,7 +224,7 @@ TEST(SavedProofs, TetraMeshesThatWouldMisleadTheWalkAreRefusedByName) {
     const uint32_t p = m.face_tris[carrying];
     const std::array<Vec3, 3> tri = Triangles<>(scene.mesh).triangle(p);
     const Vec3 n = normalize(cross(tri[1] - tri[0], tri[2] - tri[0]));
-    d.mesh.points[x] = d.mesh.points[x] + D3{n.x, n.y, n.z} * 1e-7;
+    d.mesh.points[x] = d.mesh.points[x] + Vec3d{n.x, n.y, n.z} * 1e-7;
     e = tetra_error(bytes, d, scene);
     EXPECT_TRUE(contains(e, "off its plane") || contains(e, "inverted")) << e;
 

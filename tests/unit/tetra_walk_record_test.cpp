@@ -42,14 +42,14 @@ size_t shared_vertices(const TetraMesh& m, uint32_t a, uint32_t b) {
 /// The ray's parameter interval inside tetrahedron t, clipped by its four face planes in double,
 /// each face's inside told by the vertex opposite it (independent of the walk's face_plane).
 void segment_in(const TetraMesh& m, uint32_t t, const Ray& ray, double& lo, double& hi) {
-    const D3 o{ray.org.x, ray.org.y, ray.org.z}, d{ray.dir.x, ray.dir.y, ray.dir.z};
+    const Vec3d o{ray.org.x, ray.org.y, ray.org.z}, d{ray.dir.x, ray.dir.y, ray.dir.z};
     lo = -INFINITY;
     hi = INFINITY;
     for (int k = 0; k < 4; ++k) {
-        D3 f[3];
+        Vec3d f[3];
         for (int i = 0, j = 0; i < 4; ++i)
             if (i != k) f[j++] = m.points[m.tets[size_t(t) * 4 + i]];
-        D3 n = cross(f[1] - f[0], f[2] - f[0]);
+        Vec3d n = cross(f[1] - f[0], f[2] - f[0]);
         if (dot(n, m.points[m.tets[size_t(t) * 4 + k]] - f[0]) > 0) n = n * -1.0;  // outward
         const double num = dot(n, f[0] - o), den = dot(n, d);
         if (den > 0)

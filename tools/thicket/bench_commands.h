@@ -13,5 +13,7 @@ Command add_bench_command(CLI::App& app);
 std::string vec_text(Vec3 v);
 /// Prints the camera and light lines of a ray-set view (`camera_given`: from --camera).
 void print_view(const RaySetView& view, bool camera_given);
+/// A scene's name in bench and compare tables: a file's name without its folder, a built-in's name.
+std::string scene_label(const std::string& path);
 
 }  // namespace thicket::cli

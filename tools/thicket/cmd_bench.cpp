@@ -65,11 +65,6 @@ void print_machine(const char* when) {
                 load_average().c_str(), when);
 }
 
-std::string scene_label(const std::string& path) {
-    const std::filesystem::path p(path);
-    return p.has_filename() && p.has_extension() ? p.filename().string() : path;
-}
-
 /// The rays of a .npy file (N x 8 float32, `thicket trace`'s layout) as a set of their own, read
 /// through the rows path that `thicket trace` and the Python module use (accel/ray_rows.h): the
 /// same rows are the same rays everywhere, and a row without a meaning is left out (said here).
@@ -353,6 +348,11 @@ Command add_bench_command(CLI::App& app) {
     cmd->add_flag("--no-embree", args->no_embree, "leave Embree out (no ratios, no agreement)");
     cmd->add_flag("-f,--force", args->force, "overwrite the --json file if it exists");
     return {cmd, [args] { return run_bench(*args); }};
+}
+
+std::string scene_label(const std::string& path) {
+    const std::filesystem::path p(path);
+    return p.has_filename() && p.has_extension() ? p.filename().string() : path;
 }
 
 }  // namespace thicket::cli

@@ -45,11 +45,6 @@ struct CompareArgs {
     bool force = false;
 };
 
-std::string scene_label(const std::string& path) {
-    const fs::path p(path);
-    return p.has_filename() && p.has_extension() ? p.filename().string() : path;
-}
-
 // A file-name stem for a scene's plots: its file's stem, unusual characters replaced.
 std::string plot_stem(const std::string& path) {
     std::string stem = fs::path(path).stem().string();

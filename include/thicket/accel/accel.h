@@ -63,6 +63,8 @@ struct BatchOptions {
 
 /// Throws Error naming `query` when options.coherent is set for a batch without a coherent path.
 void refuse_coherent(const char* query, const BatchOptions& options);
+/// Throws Error naming `query` when a batch of `rays` rays has room for `answers` answers, another number.
+void check_ray_answers(const char* query, size_t rays, size_t answers);
 
 /// Two hits of one ray whose t differ by at most this much relative are one surface crossing
 /// (all_hits, count_hits): a ray through an edge or vertex shared by several triangles of a closed

@@ -17,4 +17,7 @@ public:
     using Error::Error;
 };
 
+/// x as the library's messages show a value: printf's %g (six significant digits).
+std::string format_number(double x);
+
 }  // namespace thicket

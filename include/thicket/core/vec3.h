@@ -38,6 +38,8 @@ inline float length(Vec3 v) { return std::sqrt(dot(v, v)); }
 inline Vec3 normalize(Vec3 v) { return v / length(v); }
 constexpr Vec3 min(Vec3 a, Vec3 b) { return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)}; }
 constexpr Vec3 max(Vec3 a, Vec3 b) { return {std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)}; }
+/// No component infinite or NaN.
+inline bool is_finite(Vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 inline Vec3 abs(Vec3 v) { return {std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}; }
 constexpr float max_component(Vec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
 /// Index (0, 1, 2) of the largest component; ties go to the lower axis.

@@ -32,6 +32,7 @@ constexpr DVec3 cross(DVec3 a, DVec3 b) {
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 inline double length(DVec3 v) { return std::sqrt(dot(v, v)); }
+inline bool is_finite(DVec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 inline DVec3 normalize(DVec3 v) { return v / length(v); }
 
 constexpr DVec3 min(DVec3 a, DVec3 b) { return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)}; }

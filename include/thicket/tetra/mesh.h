@@ -8,38 +8,26 @@
 #include <vector>
 
 #include "thicket/bvh/node.h"
+#include "thicket/core/vec3d.h"
 
 namespace thicket {
 
 inline constexpr uint32_t kNoTet = 0xFFFFFFFFu;
 
-/// A point or vector in double precision: the walk decides exit faces with these.
-struct D3 {
-    double x = 0, y = 0, z = 0;
-    D3 operator+(const D3& b) const { return {x + b.x, y + b.y, z + b.z}; }
-    D3 operator-(const D3& b) const { return {x - b.x, y - b.y, z - b.z}; }
-    D3 operator*(double s) const { return {x * s, y * s, z * s}; }
-    double operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
-};
-inline double dot(const D3& a, const D3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline D3 cross(const D3& a, const D3& b) {
-    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-
 struct TetraMesh {
-    std::vector<D3> points;           ///< TetGen's output vertices (input, box corners, Steiner points)
+    std::vector<Vec3d> points;           ///< TetGen's output vertices (input, box corners, Steiner points)
     std::vector<uint32_t> tets;       ///< 4 vertex ids per tetrahedron; face k is opposite vertex k
     std::vector<uint32_t> neighbors;  ///< 4 per tetrahedron: the one across face k, kNoTet on the hull
     std::vector<uint32_t> face_tris;  ///< 4 per tetrahedron: the scene triangle face k is part of, or kNoTet
     /// Scene triangles at each vertex: those of vertex v are tris[offsets[v] .. offsets[v+1]).
     std::vector<uint32_t> vertex_offsets, vertex_tris;
-    D3 box_min, box_max;              ///< the box the tetrahedra fill
+    Vec3d box_min, box_max;              ///< the box the tetrahedra fill
     uint32_t grid_res = 0;            ///< start grid: grid_res^3 cells over the box
     std::vector<uint32_t> grid_start; ///< per cell, a tetrahedron near its centre
 
     size_t tet_count() const { return tets.size() / 4; }
     size_t bytes() const {
-        return points.size() * sizeof(D3) + (tets.size() + neighbors.size() + face_tris.size() + vertex_offsets.size() +
+        return points.size() * sizeof(Vec3d) + (tets.size() + neighbors.size() + face_tris.size() + vertex_offsets.size() +
                                              vertex_tris.size() + grid_start.size()) * sizeof(uint32_t);
     }
 };

@@ -28,7 +28,7 @@ namespace thicket::tetra_detail {
 inline constexpr uint32_t kStallSteps = 4096;
 
 /// Entry and exit distance of the ray in the mesh's box, in double; false when it misses.
-inline bool box_span(const TetraMesh& m, const D3& o, const D3& d, double& t0, double& t1) {
+inline bool box_span(const TetraMesh& m, const Vec3d& o, const Vec3d& d, double& t0, double& t1) {
     for (int a = 0; a < 3; ++a) {
         if (d[a] == 0.0) {
             if (o[a] < m.box_min[a] || o[a] > m.box_max[a]) return false;
@@ -54,11 +54,11 @@ template <bool AnyHit, class C, class Test, class TestAll>
 bool walk(const TetraMesh& m, size_t primitives, const Ray& ray, const Hit& hit, C& counters, Test&& test,
           TestAll&& test_all) {
     if (m.tet_count() == 0) return false;
-    const D3 o{ray.org.x, ray.org.y, ray.org.z}, d{ray.dir.x, ray.dir.y, ray.dir.z};
+    const Vec3d o{ray.org.x, ray.org.y, ray.org.z}, d{ray.dir.x, ray.dir.y, ray.dir.z};
     double t_in = ray.tmin, t_box_out = ray.tmax;
     if (!box_span(m, o, d, t_in, t_box_out)) return false;
     // The first point inside the box, clamped into it against rounding.
-    D3 p = o + d * t_in;
+    Vec3d p = o + d * t_in;
     p = {std::clamp(p.x, m.box_min.x, m.box_max.x), std::clamp(p.y, m.box_min.y, m.box_max.y),
          std::clamp(p.z, m.box_min.z, m.box_max.z)};
     uint32_t t = locate(m, p, grid_start(m, p), [&] { counters.node(); });
@@ -91,7 +91,7 @@ bool walk(const TetraMesh& m, size_t primitives, const Ray& ray, const Hit& hit,
         int exit = -1;
         double t_exit = INFINITY, num[4], nd[4], height[4];
         for (int k = 0; k < 4; ++k) {
-            D3 n, a;
+            Vec3d n, a;
             face_plane(m, t, k, n, a);
             num[k] = dot(n, a - o);
             nd[k] = dot(n, d);

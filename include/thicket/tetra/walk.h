@@ -13,7 +13,7 @@ namespace thicket::tetra_detail {
 /// it so), so the outward side follows from k and the order of the face's vertices, never from
 /// a rounded volume: both tetrahedra of a face get the same numbers, negated, even for slivers,
 /// and a walk can never leave a tetrahedron through a face its neighbour calls an exit too.
-inline void face_plane(const TetraMesh& m, uint32_t t, int k, D3& n, D3& a) {
+inline void face_plane(const TetraMesh& m, uint32_t t, int k, Vec3d& n, Vec3d& a) {
     const uint32_t* v = &m.tets[size_t(t) * 4];
     uint32_t f[3];
     int j = 0;
@@ -31,18 +31,18 @@ inline void face_plane(const TetraMesh& m, uint32_t t, int k, D3& n, D3& a) {
 
 /// Six times the signed volume of tetrahedron (a, b, c, d): positive when d lies on the side of
 /// (a, b, c) that cross(b - a, c - a) points to.
-inline double orient(const D3& a, const D3& b, const D3& c, const D3& d) { return dot(cross(b - a, c - a), d - a); }
+inline double orient(const Vec3d& a, const Vec3d& b, const Vec3d& c, const Vec3d& d) { return dot(cross(b - a, c - a), d - a); }
 
 /// How far outside face k of tetrahedron t the point p lies (> 0 outside), in units of the
 /// face's normal length times distance.
-inline double outside(const TetraMesh& m, uint32_t t, int k, const D3& p) {
-    D3 n, a;
+inline double outside(const TetraMesh& m, uint32_t t, int k, const Vec3d& p) {
+    Vec3d n, a;
     face_plane(m, t, k, n, a);
     return dot(n, p - a);
 }
 
 /// A tetrahedron near p to start walks from: the start grid's cell holding p (clamped).
-inline uint32_t grid_start(const TetraMesh& m, const D3& p) {
+inline uint32_t grid_start(const TetraMesh& m, const Vec3d& p) {
     if (m.grid_start.empty()) return 0;
     uint32_t cell[3];
     for (int a = 0; a < 3; ++a) {
@@ -59,7 +59,7 @@ inline uint32_t grid_start(const TetraMesh& m, const D3& p) {
 /// face tried first rotating so that no cycle can repeat forever; past a step budget, the
 /// tetrahedron p lies least outside of, by a scan of them all. `steps` counts the walk.
 template <class Count>
-uint32_t locate(const TetraMesh& m, const D3& p, uint32_t start, Count&& steps) {
+uint32_t locate(const TetraMesh& m, const Vec3d& p, uint32_t start, Count&& steps) {
     const size_t tets = m.tet_count();
     if (tets == 0) return kNoTet;
     uint32_t t = start < tets ? start : 0;
@@ -82,7 +82,7 @@ uint32_t locate(const TetraMesh& m, const D3& p, uint32_t start, Count&& steps) 
     for (uint32_t c = 0; c < tets; ++c) {
         double worst = -INFINITY;
         for (int k = 0; k < 4; ++k) {
-            D3 n, a;
+            Vec3d n, a;
             face_plane(m, c, k, n, a);
             const double len = std::sqrt(dot(n, n));
             worst = std::max(worst, len > 0 ? dot(n, p - a) / len : 0.0);

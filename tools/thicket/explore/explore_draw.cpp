@@ -325,7 +325,7 @@ Drawing draw_tetra(const TetraMesh& m, uint32_t depth) {
         e.shape = Shape::Tetra;
         e.id = t;
         for (int k = 0; k < 4; ++k) {
-            const D3& p = m.points[m.tets[4 * t + k]];
+            const Vec3d& p = m.points[m.tets[4 * t + k]];
             e.points.push_back({float(p.x), float(p.y), float(p.z)});
         }
         d.elements.push_back(std::move(e));

@@ -30,7 +30,7 @@ std::optional<std::array<Vec3, 4>> tetrahedron_corners(const Accel& accel, uint3
         if (id >= m.tet_count()) return;
         std::array<Vec3, 4> c;
         for (int i = 0; i < 4; ++i) {
-            const D3& p = m.points[m.tets[size_t(id) * 4 + i]];
+            const Vec3d& p = m.points[m.tets[size_t(id) * 4 + i]];
             c[i] = Vec3{float(p.x), float(p.y), float(p.z)};
         }
         out = c;

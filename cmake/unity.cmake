@@ -1,0 +1,41 @@
+# thicket_unity_by_folder(target [BATCH n]): compile target's sources as unity units, each made of
+# files of one folder only (at most n of them, default 8), so that a unit parses the library's
+# headers and instantiates their templates once for several files. Folders keep their files
+# together because a folder is one concept (one structure, the scene loaders): file-local names of
+# two structures never meet in one unit, and a folder's own files are written not to clash.
+# Sources marked SKIP_UNITY_BUILD_INCLUSION (per-ISA kernels, files whose headers clash) stay alone.
+# Off with -DTHICKET_UNITY=OFF, which checks that every file includes what it uses.
+function(thicket_unity_by_folder target)
+  cmake_parse_arguments(ARG "" "BATCH" "" ${ARGN})
+  if(NOT ARG_BATCH)
+    set(ARG_BATCH 8)
+  endif()
+  if(NOT THICKET_UNITY)
+    return()
+  endif()
+  get_target_property(sources ${target} SOURCES)
+  get_target_property(source_dir ${target} SOURCE_DIR)
+  set(counts)
+  foreach(source ${sources})
+    if(NOT source MATCHES "\\.cpp$")
+      continue()
+    endif()
+    get_source_file_property(skip ${source} SKIP_UNITY_BUILD_INCLUSION)
+    if(skip)
+      continue()
+    endif()
+    if(NOT IS_ABSOLUTE ${source})
+      set(source ${source_dir}/${source})
+    endif()
+    get_filename_component(folder ${source} DIRECTORY)
+    get_filename_component(folder_name ${folder} NAME)
+    string(MAKE_C_IDENTIFIER "${folder_name}" key)
+    if(NOT DEFINED count_${key})
+      set(count_${key} 0)
+    endif()
+    math(EXPR batch "${count_${key}} / ${ARG_BATCH}")
+    math(EXPR count_${key} "${count_${key}} + 1")
+    set_source_files_properties(${source} PROPERTIES UNITY_GROUP "${key}_${batch}")
+  endforeach()
+  set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_MODE GROUP)
+endfunction()
