@@ -55,11 +55,9 @@ std::unique_ptr<Accel> with_double_triangles(const Scene& scene, const AccelSpec
 template <class Make>
 std::unique_ptr<Accel> with_primitives(const Scene& scene, const AccelSpec& spec, Make&& make) {
     const bool watertight = spec.choice("isect", kTriangleTests) == TriangleTest::Watertight;
-    if (scene.has_shapes()) {
-        if (watertight)
-            return make(MixedPrimitives<TriangleTest::Watertight>(scene.mesh, scene.shapes, scene.runs, scene.name));
-        return make(MixedPrimitives<TriangleTest::Moller>(scene.mesh, scene.shapes, scene.runs, scene.name));
-    }
+    if (scene.has_shapes())
+        return make(MixedPrimitives(scene.mesh, scene.shapes, scene.runs, scene.name,
+                                    watertight ? TriangleTest::Watertight : TriangleTest::Moller));
     if (watertight) return make(Triangles<TriangleTest::Watertight>(scene.mesh));
     return make(Triangles<TriangleTest::Moller>(scene.mesh));
 }

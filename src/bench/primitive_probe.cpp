@@ -43,8 +43,8 @@ PrimitiveProbe::PrimitiveProbe(const Scene& scene, const std::string& isect) : c
     const bool watertight = isect == "watertight";
     if (scene.has_shapes()) {
         const auto& [mesh, shapes, runs, name] = std::tie(scene.mesh, scene.shapes, scene.runs, scene.name);
-        hit_ = watertight ? probe_of(MixedPrimitives<TriangleTest::Watertight>(mesh, shapes, runs, name))
-                          : probe_of(MixedPrimitives<TriangleTest::Moller>(mesh, shapes, runs, name));
+        hit_ = probe_of(MixedPrimitives(mesh, shapes, runs, name,
+                                        watertight ? TriangleTest::Watertight : TriangleTest::Moller));
         return;
     }
     hit_ = watertight ? probe_of(Triangles<TriangleTest::Watertight>(scene.mesh))

@@ -13,16 +13,18 @@
 
 namespace thicket {
 
-/// The primitive set P of `scene`, as the build made it (accel/dispatch.h); throws Error naming
+/// The primitive set P of `scene`, as the build made `built` (accel/dispatch.h: the same triangle
+/// test); throws Error naming
 /// `structure` when the scene's primitive count is not `expected` (the built one's) or the scene
 /// has shapes where P holds triangles only (or the reverse): refit needs the same topology.
 template <PrimitiveSet P>
-P refit_primitives(const Scene& scene, size_t expected, const std::string& structure) {
+P refit_primitives(const Scene& scene, size_t expected, const P& built, const std::string& structure) {
     if (scene.primitive_count() != expected)
         throw Error(structure + " refit: scene '" + scene.name + "' has " + std::to_string(scene.primitive_count()) +
                     " primitives, the structure was built over " + std::to_string(expected) +
                     "; refit needs the same topology (only vertices may move): rebuild instead");
     if constexpr (std::is_constructible_v<P, const TriangleMesh&>) {
+        (void)built;  // a triangle set's test is its type
         if (scene.has_shapes())
             throw Error(structure + " refit: scene '" + scene.name +
                         "' has shapes, the structure was built over triangles only: rebuild instead");
@@ -31,7 +33,7 @@ P refit_primitives(const Scene& scene, size_t expected, const std::string& struc
         if (!scene.has_shapes())
             throw Error(structure + " refit: scene '" + scene.name +
                         "' has no shapes, the structure was built over shapes: rebuild instead");
-        return P(scene.mesh, scene.shapes, scene.runs, scene.name);
+        return P(scene.mesh, scene.shapes, scene.runs, scene.name, built.triangle_test());
     }
 }
 

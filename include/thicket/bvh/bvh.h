@@ -81,7 +81,7 @@ public:
 
     /// Accel::refit: the scene's primitives again, every box recomputed (src/bvh/refit.cpp).
     void refit(const Scene& scene, unsigned threads) override {
-        Prims fresh = refit_primitives<Prims>(scene, prims_.size(), "bvh");
+        Prims fresh = refit_primitives(scene, prims_.size(), prims_, "bvh");
         refit_bvh(data_, refit_boxes(fresh, threads));
         prims_ = std::move(fresh);
     }

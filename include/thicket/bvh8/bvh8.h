@@ -235,7 +235,7 @@ public:
     /// degenerate test, which only a rebuild handles. Compressed nodes are decoded for the refit
     /// (their topology) and quantized again from the refitted boxes.
     void refit(const Scene& scene, unsigned threads) override {
-        Prims fresh = refit_primitives<Prims>(scene, primitives_, "bvh8");
+        Prims fresh = refit_primitives(scene, primitives_, prims_, "bvh8");
         const bool compressed = !qnodes_.empty();
         if (compressed) bvh8::decode_nodes(qnodes_, tree_.nodes);
         try {

@@ -56,15 +56,21 @@ private:
 /// one belongs to the ray: a small open-addressing hash set of the primitive ids tested so far,
 /// held on the stack (64 slots), exact (it never forgets an id, so no primitive is tested twice),
 /// and grown onto the heap in the rare ray that tests more than 48 distinct shared primitives.
+///
+/// Off (RayMailbox(false), the grids' `mailbox=off`), every offer is a first visit: one flag read
+/// per offer instead of a second instantiation of each walk.
 class RayMailbox {
 public:
-    RayMailbox() { std::memset(inline_, 0xFF, sizeof(inline_)); }
+    explicit RayMailbox(bool on = true) : on_(on) {
+        if (on_) std::memset(inline_, 0xFF, sizeof(inline_));
+    }
     RayMailbox(const RayMailbox&) = delete;
     RayMailbox& operator=(const RayMailbox&) = delete;
 
     /// True the first time `id` is offered during this ray (the caller then tests it), false on
     /// every later offer. `id` must not be 0xFFFFFFFF.
     bool first_visit(uint32_t id) {
+        if (!on_) return true;
         uint32_t h = slot_of(id);
         while (true) {
             const uint32_t s = slots_[h];
@@ -103,6 +109,7 @@ private:
         heap_ = std::move(bigger);  // frees the previous heap table, if any, after rehashing from it
     }
 
+    bool on_;
     uint32_t* slots_ = inline_;
     uint32_t mask_ = (1u << kInlineBits) - 1;
     uint32_t shift_ = 32 - kInlineBits;

@@ -27,17 +27,13 @@ public:
     template <class C>
     Hit closest(const Ray& ray, C& counters) const {
         Hit hit = miss_for(ray);
-        if (options_.mailbox)
-            grid_walk<false, RayMailbox>(data_, prims_, ray, hit, counters);
-        else
-            grid_walk<false, NoMailbox>(data_, prims_, ray, hit, counters);
+        grid_walk<false>(data_, prims_, ray, hit, options_.mailbox, counters);
         return hit;
     }
     template <class C>
     bool any(const Ray& ray, C& counters) const {
         Hit unused = miss_for(ray);
-        return options_.mailbox ? grid_walk<true, RayMailbox>(data_, prims_, ray, unused, counters)
-                                : grid_walk<true, NoMailbox>(data_, prims_, ray, unused, counters);
+        return grid_walk<true>(data_, prims_, ray, unused, options_.mailbox, counters);
     }
 
     /// The walk reports its steps to a TraversalRecorder (Accel::intersect).

@@ -13,15 +13,15 @@
 namespace thicket {
 
 /// Closest hit (AnyHit = false: updates `hit`) or any hit (AnyHit = true: returns whether the
-/// ray is blocked within [tmin, tmax]); MB is RayMailbox or NoMailbox, shared by all sub-grids
+/// ray is blocked within [tmin, tmax]); `mailboxing` turns the per-ray mailbox on, shared by all sub-grids
 /// (a primitive may be referenced from several top cells).
-template <bool AnyHit, class MB, PrimitiveSet Prims, class C>
-bool grid2_walk(const Grid2Data& g, const Prims& prims, const Ray& ray, Hit& hit, C& counters) {
+template <bool AnyHit, PrimitiveSet Prims, class C>
+bool grid2_walk(const Grid2Data& g, const Prims& prims, const Ray& ray, Hit& hit, bool mailboxing, C& counters) {
     if (g.leaves.refs.empty()) return false;
     const float t0 = ray_box_entry(RayBoxQuery(ray), g.frame.min, g.frame.max, ray.tmin, ray.tmax);
     if (t0 == kInfinity) return false;
     const DdaRay r(ray);
-    MB mailbox;
+    RayMailbox mailbox(mailboxing);
     const uint32_t* start = g.leaves.start.data();
     const uint32_t* refs = g.leaves.refs.data();
     const auto far = [&] { return AnyHit ? ray.tmax : hit.t; };

@@ -23,14 +23,14 @@ inline float dda_cell_entry(const Dda& d, const DdaRay& r, float t0) {
 }
 
 /// Closest hit (AnyHit = false: updates `hit`) or any hit (AnyHit = true: returns whether the
-/// ray is blocked within [tmin, tmax]); MB is RayMailbox or NoMailbox.
-template <bool AnyHit, class MB, PrimitiveSet Prims, class C>
-bool grid_walk(const GridData& g, const Prims& prims, const Ray& ray, Hit& hit, C& counters) {
+/// ray is blocked within [tmin, tmax]); `mailboxing` turns the per-ray mailbox on.
+template <bool AnyHit, PrimitiveSet Prims, class C>
+bool grid_walk(const GridData& g, const Prims& prims, const Ray& ray, Hit& hit, bool mailboxing, C& counters) {
     if (g.lists.refs.empty()) return false;
     const float t0 = ray_box_entry(RayBoxQuery(ray), g.frame.min, g.frame.max, ray.tmin, ray.tmax);
     if (t0 == kInfinity) return false;
     const DdaRay r(ray);
-    MB mailbox;
+    RayMailbox mailbox(mailboxing);
     const uint32_t* start = g.lists.start.data();
     const uint32_t* refs = g.lists.refs.data();
     // Stop when the nearest hit (or the end of the ray) lies within this cell: not past its exit.

@@ -10,29 +10,17 @@
 
 namespace thicket {
 
-/// Stand-in for RayMailbox when mailboxing is off: every primitive is tested in every cell.
-struct NoMailbox {
-    static constexpr bool kActive = false;
-    constexpr bool first_visit(uint32_t) const { return true; }
-};
-
 namespace grid_detail {
-
-template <class MB>
-inline constexpr bool kMailboxActive = true;
-template <>
-inline constexpr bool kMailboxActive<NoMailbox> = false;
 
 /// Tests the cell entries [first, last): closest-hit updates `hit`; any-hit returns true at the
 /// first primitive hit within [tmin, tmax]. A primitive met before on this ray is skipped when
 /// mailboxing (it cannot change the answer: it was tested with a window at least as wide).
-template <bool AnyHit, class Prims, class MB, class C>
+template <bool AnyHit, class Prims, class C>
 inline bool visit_cell(const uint32_t* first, const uint32_t* last, const Prims& prims, const Ray& ray, Hit& hit,
-                       MB& mailbox, C& counters) {
+                       RayMailbox& mailbox, C& counters) {
     for (; first != last; ++first) {
         const uint32_t ref = *first, id = ref & kPrimMask;
-        if constexpr (kMailboxActive<MB>)
-            if (!(ref & kSingleCell) && !mailbox.first_visit(id)) continue;
+        if (!(ref & kSingleCell) && !mailbox.first_visit(id)) continue;
         counters.prim();
         if constexpr (AnyHit) {
             if (prims.occludes(id, ray)) {

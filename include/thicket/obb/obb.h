@@ -83,7 +83,7 @@ public:
 
     /// Accel::refit: the scene's primitives again, each node's box refitted along its own axes.
     void refit(const Scene& scene, unsigned threads) override {
-        prims_ = refit_primitives<Prims>(scene, prims_.size(), "obb");
+        prims_ = refit_primitives(scene, prims_.size(), prims_, "obb");
         refit_obb(data_, obb_points(prims_), scene_scale(), threads);
     }
     bool refittable() const override { return true; }

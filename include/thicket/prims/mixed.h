@@ -4,7 +4,11 @@
 /// not from a Scene. Chosen by with_primitives() only for scenes that have shapes; triangle-only
 /// scenes keep the Triangles fast path.
 ///
-/// Layout: triangles as in Triangles<Test> (36 bytes each), shapes in one array per kernel type
+/// One type for both triangle tests, picked at run time (a branch the predictor always gets right):
+/// scenes with shapes are the rarer case, and a second instantiation of every structure over a
+/// second mixed type was a quarter of the library's structure code to compile.
+///
+/// Layout: triangles as in Triangles (36 bytes each), shapes in one array per kernel type
 /// (no variant padding: a sphere stays 16 bytes next to bigger kernels), and one 32-bit reference
 /// per primitive id: the kind in the top 4 bits (0 triangle, k the k-th alternative of Shape
 /// plus one), the index within its array below.
@@ -35,7 +39,6 @@ struct ShapeArrays<std::variant<S...>> {
 };
 }  // namespace detail
 
-template <TriangleTest Test = TriangleTest::Moller>
 class MixedPrimitives {
 public:
     static constexpr uint32_t kKindShift = 28;
@@ -43,12 +46,30 @@ public:
     static constexpr size_t kKinds = std::variant_size_v<Shape>;
     static_assert(kKinds + 1 < 16, "the kind must fit the top 4 bits of a reference");
 
+private:
+    // Before their callers: a non-template class's members see a deduced return type only once
+    // its definition has been read.
+    /// Calls f(kernel) for the shape behind reference r (kind > 0), dispatching on the kind.
+    template <class F>
+    decltype(auto) visit_shape(uint32_t r, F&& f) const {
+        return visit_kind(r >> kKindShift, r & kIndexMask, f, std::make_index_sequence<kKinds>{});
+    }
+    template <class F, size_t... K>
+    decltype(auto) visit_kind(uint32_t kind, uint32_t index, F& f, std::index_sequence<K...>) const {
+        using R = decltype(f(std::get<0>(shapes_)[0]));
+        R result{};
+        // One comparison per kernel type: a switch the compiler builds from the fold.
+        (void)((kind == K + 1 ? (result = f(std::get<K>(shapes_)[index]), true) : false) || ...);
+        return result;
+    }
+
+public:
     MixedPrimitives() = default;
-    /// The triangles of `mesh` and the `shapes`, with ids ordered by `runs` (see locate_prim).
-    /// Throws Error starting with `name` when either count does not fit a reference.
+    /// The triangles of `mesh` (tested with `test`) and the `shapes`, with ids ordered by `runs`
+    /// (see locate_prim). Throws Error starting with `name` when either count does not fit a reference.
     MixedPrimitives(const TriangleMesh& mesh, const std::vector<Shape>& shapes, const std::vector<PrimRun>& runs,
-                    const std::string& name)
-        : tris_(mesh) {
+                    const std::string& name, TriangleTest test)
+        : test_(test), tris_(mesh) {
         const size_t n = mesh.triangle_count() + shapes.size();
         if (mesh.triangle_count() > kIndexMask || shapes.size() > kIndexMask)
             throw Error(name + ": a scene with shapes holds at most " + std::to_string(kIndexMask) +
@@ -70,7 +91,7 @@ public:
         }
     }
 
-    static constexpr const char* kind() { return Triangles<Test>::kind(); }
+    TriangleTest triangle_test() const { return test_; }
     size_t size() const { return refs_.size(); }
     size_t bytes() const {
         size_t b = tris_.bytes() + refs_.size() * sizeof(uint32_t);
@@ -106,7 +127,10 @@ public:
     bool intersect(uint32_t i, const Ray& ray, Hit& hit) const {
         const uint32_t r = refs_[i];
         if ((r >> kKindShift) == 0) {
-            if (!tris_.intersect(r, ray, hit)) return false;
+            const bool found = test_ == TriangleTest::Watertight
+                                   ? tris_.intersect_using<TriangleTest::Watertight>(r, ray, hit)
+                                   : tris_.intersect_using<TriangleTest::Moller>(r, ray, hit);
+            if (!found) return false;
             hit.prim = i;
             return true;
         }
@@ -119,7 +143,9 @@ public:
     /// Any-hit: is primitive i hit within [ray.tmin, ray.tmax]?
     bool occludes(uint32_t i, const Ray& ray) const {
         const uint32_t r = refs_[i];
-        if ((r >> kKindShift) == 0) return tris_.occludes(r, ray);
+        if ((r >> kKindShift) == 0)
+            return test_ == TriangleTest::Watertight ? tris_.occludes_using<TriangleTest::Watertight>(r, ray)
+                                                     : tris_.occludes_using<TriangleTest::Moller>(r, ray);
         ShapeHit sh;
         return visit_shape(r, [&](const auto& s) { return s.intersect(ray, ray.tmax, sh) && plausible(s, ray, sh.t); });
     }
@@ -132,21 +158,8 @@ public:
     }
 
 private:
-    /// Calls f(kernel) for the shape behind reference r (kind > 0), dispatching on the kind.
-    template <class F>
-    decltype(auto) visit_shape(uint32_t r, F&& f) const {
-        return visit_kind(r >> kKindShift, r & kIndexMask, f, std::make_index_sequence<kKinds>{});
-    }
-    template <class F, size_t... K>
-    decltype(auto) visit_kind(uint32_t kind, uint32_t index, F& f, std::index_sequence<K...>) const {
-        using R = decltype(f(std::get<0>(shapes_)[0]));
-        R result{};
-        // One comparison per kernel type: a switch the compiler builds from the fold.
-        (void)((kind == K + 1 ? (result = f(std::get<K>(shapes_)[index]), true) : false) || ...);
-        return result;
-    }
-
-    Triangles<Test> tris_;
+    TriangleTest test_ = TriangleTest::Moller;
+    Triangles<> tris_;  ///< storage only: its test is test_
     typename detail::ShapeArrays<Shape>::type shapes_;
     std::vector<uint32_t> refs_;
 };

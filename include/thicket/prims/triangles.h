@@ -45,10 +45,14 @@ public:
     }
 
     /// Closest-hit update: if primitive i is hit within [ray.tmin, hit.t], overwrite hit.
-    bool intersect(uint32_t i, const Ray& ray, Hit& hit) const {
+    bool intersect(uint32_t i, const Ray& ray, Hit& hit) const { return intersect_using<Test>(i, ray, hit); }
+    /// intersect() with the test T (the mixed set, which picks its test at run time, stores its
+    /// triangles as one Triangles and calls the test the spec asks for).
+    template <TriangleTest T>
+    bool intersect_using(uint32_t i, const Ray& ray, Hit& hit) const {
         TriangleHit th;
         const Tri& tri = tris_[i];
-        if (!intersect_triangle<Test>(tri.v0, tri.v1, tri.v2, ray, hit.t, th) || !plausible(tri, ray, th.t))
+        if (!intersect_triangle<T>(tri.v0, tri.v1, tri.v2, ray, hit.t, th) || !plausible(tri, ray, th.t))
             return false;
         hit = {th.t, th.u, th.v, i};
         return true;
@@ -61,10 +65,12 @@ public:
         return {q.point, point_distance(p, q.point), q.u, q.v, i};
     }
     /// Any-hit: is primitive i hit within [ray.tmin, ray.tmax]?
-    bool occludes(uint32_t i, const Ray& ray) const {
+    bool occludes(uint32_t i, const Ray& ray) const { return occludes_using<Test>(i, ray); }
+    template <TriangleTest T>
+    bool occludes_using(uint32_t i, const Ray& ray) const {
         TriangleHit th;
         const Tri& tri = tris_[i];
-        return intersect_triangle<Test>(tri.v0, tri.v1, tri.v2, ray, ray.tmax, th) && plausible(tri, ray, th.t);
+        return intersect_triangle<T>(tri.v0, tri.v1, tri.v2, ray, ray.tmax, th) && plausible(tri, ray, th.t);
     }
 
     /// Whether a hit the test reported is real: the triangle has an interior, and t lies in the

@@ -24,8 +24,7 @@ template <template <PrimitiveSet> class Structure, class F>
 bool as(const Accel& accel, F&& f) {
     return as_over<Structure, Triangles<TriangleTest::Moller>>(accel, f) ||
            as_over<Structure, Triangles<TriangleTest::Watertight>>(accel, f) ||
-           as_over<Structure, MixedPrimitives<TriangleTest::Moller>>(accel, f) ||
-           as_over<Structure, MixedPrimitives<TriangleTest::Watertight>>(accel, f);
+           as_over<Structure, MixedPrimitives>(accel, f);
 }
 
 }  // namespace thicket::explore
