@@ -2,7 +2,7 @@
 # Bytes rather than raw string literals: no delimiter can collide with a file's text.
 file(GLOB files RELATIVE ${DIR} ${DIR}/*)
 list(SORT files)
-set(body "// Generated from web/explore by embed_web.cmake: do not edit.\n#include \"explore_server.h\"\n\nnamespace thicket::explore {\nnamespace {\n")
+set(body "// Generated from web/explore by embed_web.cmake: do not edit.\n#include <string>\n#include <string_view>\n#include <utility>\n#include <vector>\n\nnamespace thicket::explore {\n\n// Declared in explore_server.h, which this file does not include: it compiles before the library\n// the server's headers need (tools/thicket/explore/CMakeLists.txt).\nconst std::vector<std::pair<std::string, std::string_view>>& embedded_files();\n\nnamespace {\n")
 set(table "")
 set(i 0)
 foreach(f ${files})
