@@ -13,10 +13,10 @@
 
 namespace thicket {
 
-/// The primitive set P of `scene`, as the build made `built` (accel/dispatch.h: the same triangle
-/// test); throws Error naming
-/// `structure` when the scene's primitive count is not `expected` (the built one's) or the scene
-/// has shapes where P holds triangles only (or the reverse): refit needs the same topology.
+/// The primitive set P of `scene`, made as the build made `built` (accel/dispatch.h: the same
+/// triangle test); throws Error naming `structure` when the scene's primitive count is not
+/// `expected` (the built one's) or the scene has shapes where P holds triangles only (or the
+/// reverse): refit needs the same topology.
 template <PrimitiveSet P>
 P refit_primitives(const Scene& scene, size_t expected, const P& built, const std::string& structure) {
     if (scene.primitive_count() != expected)
