@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "thicket/core/depth_first.h"
 #include "thicket/bih/build.h"
 #include "thicket/core/error.h"
 #include "thicket/core/sah.h"
@@ -46,15 +47,10 @@ void validate_bih(const BihData& bih, size_t primitive_count) {
         if (idx >= n || referenced[idx]) throw Error("invalid BIH: primitive index array is not a permutation");
         referenced[idx] = 1;
     }
-    struct Item {
-        uint32_t node, depth;
-    };
-    std::vector<Item> stack{{0, 0}};
     std::vector<uint8_t> node_seen(bih.nodes.size(), 0), entry_seen(n, 0);
     size_t covered = 0;
-    while (!stack.empty()) {
-        const auto [i, depth] = stack.back();
-        stack.pop_back();
+    depth_first(NodeAtDepth{0, 0}, [&](const NodeAtDepth& item, std::vector<NodeAtDepth>& stack) {
+        const auto [i, depth] = item;
         const BihNode& node = bih.nodes[i];
         if (depth > kBihMaxDepth) throw Error("invalid BIH: deeper than " + std::to_string(kBihMaxDepth));
         if (node_seen[i]++) throw Error("invalid BIH: node " + std::to_string(i) + " has two parents");
@@ -64,14 +60,14 @@ void validate_bih(const BihData& bih, size_t primitive_count) {
             for (uint32_t e = node.index(); e < node.index() + node.count(); ++e)
                 if (entry_seen[e]++) throw Error("invalid BIH: leaves overlap at primitive entry " + std::to_string(e));
             covered += node.count();
-            continue;
+            return;
         }
         // Children always come after their parent: this rules out cycles.
         if (node.index() <= i || uint64_t(node.index()) + 1 >= bih.nodes.size())
             throw Error("invalid BIH: node " + std::to_string(i) + " has children out of range");
         stack.push_back({node.index(), depth + 1});
         stack.push_back({node.index() + 1, depth + 1});
-    }
+    });
     if (covered != n)
         throw Error("invalid BIH: leaves reference " + std::to_string(covered) + " of " + std::to_string(n) +
                     " primitives");

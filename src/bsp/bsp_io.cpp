@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "thicket/core/depth_first.h"
 #include "thicket/bsp/build.h"
 #include "thicket/core/error.h"
 #include "thicket/util/binary_io.h"
@@ -92,14 +93,9 @@ void validate_bsp(const BspData& bsp, size_t primitive_count) {
         if (r >= primitive_count)
             throw Error("invalid BSP: reference to primitive " + std::to_string(r) + " of " +
                         std::to_string(primitive_count));
-    struct Item {
-        uint32_t node, depth;
-    };
-    std::vector<Item> stack{{0, 0}};
     uint64_t covered = 0, reached = 0;
-    while (!stack.empty()) {
-        const auto [i, depth] = stack.back();
-        stack.pop_back();
+    depth_first(NodeAtDepth{0, 0}, [&](const NodeAtDepth& item, std::vector<NodeAtDepth>& stack) {
+        const auto [i, depth] = item;
         ++reached;
         const BspNode& node = bsp.nodes[i];
         if (depth > kBspMaxDepth) throw Error("invalid BSP: deeper than " + std::to_string(kBspMaxDepth));
@@ -118,7 +114,7 @@ void validate_bsp(const BspData& bsp, size_t primitive_count) {
             stack.push_back({node.index, depth + 1});
             stack.push_back({node.index + 1, depth + 1});
         }
-    }
+    });
     if (reached != bsp.nodes.size())
         throw Error("invalid BSP: " + std::to_string(bsp.nodes.size() - reached) + " nodes are unreachable");
     if (covered != bsp.refs.size())

@@ -2,6 +2,7 @@
 // the depth bound, the per-node child-order bytes the ordered traversals read, and the split of
 // the work between threads (top nodes together, then one subtree per task) in a way that keeps
 // the result byte-identical on any number of threads.
+#include "thicket/core/depth_first.h"
 #include "thicket/bvh/build.h"
 
 #include <algorithm>
@@ -317,17 +318,12 @@ void validate_bvh(const BvhData& bvh, size_t primitive_count) {
     }
     for (size_t p = 0; p < n; ++p)
         if (!referenced[p]) throw Error("invalid BVH: primitive " + std::to_string(p) + " is in no leaf");
-    struct Item {
-        uint32_t node, depth;
-    };
-    std::vector<Item> stack{{0, 0}};
     size_t covered = 0;
     // Leaves must partition the index array: a leaf pointed at another's entries (a fuzzed file
     // did this) still covers every entry in total, but leaves primitives unreachable.
     std::vector<uint8_t> entry_seen(entries, 0);
-    while (!stack.empty()) {
-        const auto [i, depth] = stack.back();
-        stack.pop_back();
+    depth_first(NodeAtDepth{0, 0}, [&](const NodeAtDepth& item, std::vector<NodeAtDepth>& stack) {
+        const auto [i, depth] = item;
         const BvhNode& node = bvh.nodes[i];
         if (depth > kMaxDepth) throw Error("invalid BVH: deeper than " + std::to_string(kMaxDepth));
         if (node.is_leaf()) {
@@ -343,7 +339,7 @@ void validate_bvh(const BvhData& bvh, size_t primitive_count) {
             stack.push_back({node.leftFirst, depth + 1});
             stack.push_back({node.leftFirst + 1, depth + 1});
         }
-    }
+    });
     if (covered != entries) throw Error("invalid BVH: leaves reference " + std::to_string(covered) + " of " +
                                         std::to_string(entries) + " primitive entries");
 }

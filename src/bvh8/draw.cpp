@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "thicket/bvh8/compress.h"
+#include "thicket/core/depth_first.h"
 
 namespace thicket::bvh8 {
 
@@ -17,12 +18,11 @@ Aabb lane_box(const Node& n, int lane) {
 
 }  // namespace
 
-void for_each_node(const TraceContext& ctx, size_t node_count, bool blocks,
-                   const std::function<void(const NodeBox&)>& visit) {
+void for_each_node(const TraceContext& ctx, size_t node_count, bool blocks, const DrawnNodeVisitor& visit) {
     if (node_count == 0) return;
     // Node `i` as the kernels read it: decoded planes for nodes=compressed.
     const auto node = [&](uint32_t i) { return ctx.qnodes ? decode_node(ctx.qnodes[i]) : ctx.nodes[i]; };
-    struct Item {
+    struct Lane {
         uint32_t child, leaf_size, depth;
         Aabb box;
     };
@@ -30,10 +30,7 @@ void for_each_node(const TraceContext& ctx, size_t node_count, bool blocks,
     Aabb root_box;
     for (int lane = 0; lane < kWidth; ++lane)
         if (root.valid >> lane & 1u) root_box.grow(lane_box(root, lane));
-    std::vector<Item> stack{{0, 0, 0, root_box}};
-    while (!stack.empty()) {
-        const Item it = stack.back();
-        stack.pop_back();
+    depth_first(Lane{0, 0, 0, root_box}, [&](const Lane& it, std::vector<Lane>& stack) {
         if (it.leaf_size != 0) {
             uint32_t prims = it.leaf_size;
             if (blocks) {
@@ -41,16 +38,18 @@ void for_each_node(const TraceContext& ctx, size_t node_count, bool blocks,
                 for (uint32_t k = it.child; k < it.child + it.leaf_size; ++k)
                     for (uint32_t id : ctx.blocks[k].id) prims += id != kNoPrim;
             }
-            visit(NodeBox{uint32_t(node_count) + it.child, it.depth, it.box, true, prims});
-            continue;
+            visit(drawn_box(uint32_t(node_count) + it.child, it.depth, it.box, true, prims));
+            return;
         }
-        visit(NodeBox{it.child, it.depth, it.box, false, 0});
+        visit(drawn_box(it.child, it.depth, it.box, false, 0));
         // Pre-order, lanes in order: a node's parent is the last node listed one level up.
         const Node n = node(it.child);
         for (int lane = kWidth - 1; lane >= 0; --lane)
             if (n.valid >> lane & 1u) stack.push_back({n.child[lane], n.leaf_size[lane], it.depth + 1, lane_box(n, lane)});
-    }
+    });
 }
+
+DrawingLegend draw_legend() { return {"boxes", "levels of the tree: the boxes of the nodes at this depth"}; }
 
 StepSink step_sink(TraversalRecorder& recorder, size_t node_count) {
     StepSink sink;

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "builder.h"
+#include "thicket/core/depth_first.h"
 #include "thicket/core/sah.h"
 
 namespace thicket {
@@ -82,15 +83,10 @@ void validate_kdtree(const KdTreeData& tree, size_t primitive_count) {
     for (uint32_t p : tree.prim_indices)
         if (p >= primitive_count) throw Error("invalid kD-tree: primitive index " + std::to_string(p) + " out of range");
     const size_t n = tree.nodes.size();
-    struct Item {
-        uint32_t node, depth;
-    };
-    std::vector<Item> stack{{0, 0}};
     std::vector<uint8_t> seen(n, 0);
     size_t reached = 0;
-    while (!stack.empty()) {
-        const auto [i, depth] = stack.back();
-        stack.pop_back();
+    depth_first(NodeAtDepth{0, 0}, [&](const NodeAtDepth& item, std::vector<NodeAtDepth>& stack) {
+        const auto [i, depth] = item;
         if (seen[i]++) throw Error("invalid kD-tree: node " + std::to_string(i) + " is shared between subtrees");
         ++reached;
         const KdNode& node = tree.nodes[i];
@@ -105,7 +101,7 @@ void validate_kdtree(const KdTreeData& tree, size_t primitive_count) {
             stack.push_back({node.above(), depth + 1});
             stack.push_back({i + 1, depth + 1});
         }
-    }
+    });
     if (reached != n) throw Error("invalid kD-tree: " + std::to_string(n - reached) + " nodes are unreachable");
 }
 

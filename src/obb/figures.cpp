@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string>
 
+#include "thicket/core/depth_first.h"
 #include "thicket/core/error.h"
 #include "thicket/core/sah.h"
 #include "thicket/obb/build.h"
@@ -12,18 +13,11 @@ namespace thicket {
 TreeFigures obb_figures(const ObbData& obb, float reference_area) {
     TreeFigures f;
     if (obb.nodes.empty()) return f;
-    struct Item {
-        uint32_t node;
-        size_t depth;
-    };
-    std::vector<Item> stack{{0, 0}};
-    while (!stack.empty()) {
-        const Item item = stack.back();
-        stack.pop_back();
+    depth_first(NodeAtDepth{0, 0}, [&](const NodeAtDepth& item, std::vector<NodeAtDepth>& stack) {
         const ObbNode& node = obb.nodes[item.node];
         const double rel = reference_area > 0.0f ? double(obb_area(node)) / reference_area : 1.0;
         ++f.nodes;
-        f.max_depth = std::max(f.max_depth, item.depth);
+        f.max_depth = std::max<size_t>(f.max_depth, item.depth);
         if (node.is_leaf()) {
             ++f.leaves;
             f.references += node.count;
@@ -34,7 +28,7 @@ TreeFigures obb_figures(const ObbData& obb, float reference_area) {
             stack.push_back({node.leftFirst + 1, item.depth + 1});
             stack.push_back({node.leftFirst, item.depth + 1});
         }
-    }
+    });
     return f;
 }
 

@@ -76,14 +76,14 @@ constexpr float kGrow = 2e-3f;
 
 /// The tree as for_each_node lists it: each id's box and its children in lane order.
 struct Drawn {
-    std::map<uint32_t, NodeBox> nodes;
+    std::map<uint32_t, DrawnNode> nodes;
     std::map<uint32_t, std::vector<uint32_t>> children;
 };
 
 Drawn drawn(const Accel& accel) {
     Drawn d;
     std::vector<uint32_t> path;  // the last node listed at each depth: pre-order
-    EXPECT_TRUE(accel.for_each_node([&](const NodeBox& n) {
+    EXPECT_TRUE(accel.for_each_node([&](const DrawnNode& n) {
         EXPECT_TRUE(d.nodes.emplace(n.id, n).second) << "id " << n.id << " listed twice";
         if (n.depth > 0) d.children[path.at(n.depth - 1)].push_back(n.id);
         if (!n.leaf) {
@@ -122,7 +122,7 @@ Replayed replay(const Drawn& tree, const Ray& ray, const std::vector<TraversalSt
         uint32_t cur = 0;
         for (;;) {
             out.visited.push_back(cur);
-            const NodeBox& node = tree.nodes.at(cur);
+            const DrawnNode& node = tree.nodes.at(cur);
             bool descended = false;
             if (node.leaf) {
                 for (uint32_t k = 0; k < node.prims; ++k) {

@@ -441,6 +441,61 @@ TEST(ExploreDraw, LargeLevelsAreSampledAcrossTheWholeLevel) {
     EXPECT_GT(spanned.max.x - spanned.min.x, 0.95f);
 }
 
+/// The box around everything one level's answer draws: boxes, plane corners, oriented boxes'
+/// corners, tetrahedra's corners.
+Aabb extent_of_level(const json& level) {
+    Aabb e;
+    for (const json& b : level["boxes"]) e.grow(box_of(b["box"]));
+    for (const json& p : level["planes"])
+        for (const json& q : p["polygon"]) e.grow(vec_of(q));
+    for (const json& o : level["oriented"]) {
+        const Vec3 c = vec_of(o["center"]);
+        for (int k = 0; k < 8; ++k) {
+            Vec3 q = c;
+            for (int a = 0; a < 3; ++a) q = q + vec_of(o["axes"][a]) * (k >> a & 1 ? 1.0f : -1.0f);
+            e.grow(q);
+        }
+    }
+    for (const json& t : level["tetrahedra"])
+        for (const json& q : t["corners"]) e.grow(vec_of(q));
+    return e;
+}
+
+TEST(ExploreDraw, EveryRegisteredStructureDrawsItselfButBruteForce) {
+    // The explorer names no structure: whatever the registry holds, the next one included, is
+    // drawn through Accel::for_each_node, level by level, and its drawing spans the scene.
+    Scene s;  // closed cubes, which tetra meshes whole
+    s.name = "cubes";
+    add_cube(s, {0, 0, 0}, 1.0f);
+    add_cube(s, {2, 0.5f, 0}, 0.5f);
+    add_cube(s, {0.5f, 2, 1}, 0.25f);
+    for (const AccelInfo& info : accel_registry()) {
+        SCOPED_TRACE(info.name);
+        const Drawn d(s, info.name);
+        const explore::Response r = d.session->handle("POST", "/api/nodes", json{{"depth", 0}}.dump());
+        if (info.name == "brute") {
+            EXPECT_EQ(r.status, 422);
+            continue;
+        }
+        ASSERT_EQ(r.status, 200) << r.body;
+        EXPECT_FALSE(json::parse(r.body)["drawing"].get<std::string>().empty());
+        EXPECT_FALSE(json::parse(r.body)["depth_means"].get<std::string>().empty());
+        Aabb drawn;
+        for (const json& level : d.levels()) {
+            EXPECT_GT(level["count"].get<uint64_t>(), 0u) << "an empty level below max_depth";
+            drawn.grow(extent_of_level(level));
+        }
+        const float slack = 1e-4f;
+        for (size_t t = 0; t < s.mesh.triangle_count(); ++t) {
+            const Vec3 c = (s.mesh.vertex(t, 0) + s.mesh.vertex(t, 1) + s.mesh.vertex(t, 2)) * (1.0f / 3.0f);
+            for (int a = 0; a < 3; ++a) {
+                EXPECT_GE(c[a], drawn.min[a] - slack) << "triangle " << t << " lies outside everything drawn";
+                EXPECT_LE(c[a], drawn.max[a] + slack) << "triangle " << t << " lies outside everything drawn";
+            }
+        }
+    }
+}
+
 TEST(ExploreDraw, BruteForceIsRefusedWithWhatDraws) {
     const Drawn brute(soup(), "brute");
     const explore::Response r = brute.session->handle("POST", "/api/nodes", "{}");

@@ -56,10 +56,10 @@ TEST(TraversalRecord, BvhEntersExactlyTheBoxesCrossedBeforeTheHit) {
     const Scene scene = soup();
     const std::unique_ptr<Accel> accel = build_accel("bvh", scene, 1);
     const BruteForce<Triangles<>> brute{Triangles<>(scene.mesh)};
-    std::vector<NodeBox> nodes;
-    ASSERT_TRUE(accel->for_each_node([&](const NodeBox& n) { nodes.push_back(n); }));
-    std::map<uint32_t, NodeBox> by_id;
-    for (const NodeBox& n : nodes) by_id[n.id] = n;
+    std::vector<DrawnNode> nodes;
+    ASSERT_TRUE(accel->for_each_node([&](const DrawnNode& n) { nodes.push_back(n); }));
+    std::map<uint32_t, DrawnNode> by_id;
+    for (const DrawnNode& n : nodes) by_id[n.id] = n;
     const auto& bvh = static_cast<const Bvh<Triangles<>>&>(*accel).data();
     size_t compared = 0, hits = 0;
     for (Ray ray : rays()) {
@@ -91,7 +91,7 @@ TEST(TraversalRecord, BvhEntersExactlyTheBoxesCrossedBeforeTheHit) {
                     leaf_prims.push_back(bvh.prim_indices[i]);
             }
         }
-        for (const NodeBox& n : nodes) {
+        for (const DrawnNode& n : nodes) {
             const auto [t_in, t_out] = testing::slab_double(ray, n.box);
             const double end = std::min(t_out, double(ray.tmax));
             const bool crossed = t_in <= end - kMargin;
@@ -230,7 +230,16 @@ TEST(TraversalRecord, StructuresThatRecordNoStepsGiveTheTotals) {
     EXPECT_FALSE(rec.detailed);
     EXPECT_TRUE(rec.steps.empty());
     EXPECT_EQ(rec.nodes, plain.nodes);
-    EXPECT_FALSE(accel->for_each_node([](const NodeBox&) {}));
+    TraversalRecorder any_rec;
+    RayCounters any_plain;
+    EXPECT_EQ(accel->occluded(ray, any_rec), accel->occluded(ray, any_plain));
+    EXPECT_FALSE(any_rec.detailed);
+    EXPECT_TRUE(any_rec.steps.empty());
+    EXPECT_EQ(any_rec.nodes, any_plain.nodes);
+    // Brute force has no nodes to draw, and says so.
+    const std::unique_ptr<Accel> brute = build_accel("brute", scene, 1);
+    EXPECT_FALSE(brute->for_each_node([](const DrawnNode&) { ADD_FAILURE() << "brute force drew a node"; }));
+    EXPECT_FALSE(brute->drawing_legend().has_value());
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <functional>
 #include <iosfwd>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
@@ -15,6 +16,7 @@
 
 #include "thicket/core/aabb.h"
 #include "thicket/core/closest_point.h"
+#include "thicket/core/drawn_node.h"
 #include "thicket/core/ray.h"
 #include "thicket/core/ray_double.h"
 #include "thicket/core/sah.h"
@@ -109,9 +111,14 @@ public:
     /// Closest hit, recording the traversal into `recorder` (core/traversal_record.h). A structure
     /// that reports its steps sets recorder.detailed; the default only fills the totals.
     virtual Hit intersect(const Ray& ray, TraversalRecorder& recorder) const;
-    /// Calls `visit` for every node (or non-empty cell) in the numbering recorded steps use, and
-    /// returns true; returns false, visiting nothing, for a structure that does not draw itself.
-    virtual bool for_each_node(const std::function<void(const NodeBox&)>& visit) const;
+    /// Any hit, recording the traversal as intersect() above does (detailed for bvh, grid, tetra).
+    virtual bool occluded(const Ray& ray, TraversalRecorder& recorder) const;
+    /// Calls `visit` for every node, non-empty cell or tetrahedron the structure draws, parents
+    /// before children, in the numbering recorded steps use, and returns true; returns false,
+    /// visiting nothing, for a structure that does not draw itself (brute force, instances).
+    virtual bool for_each_node(const DrawnNodeVisitor& visit) const;
+    /// What for_each_node's shapes and depths mean; empty when it draws nothing.
+    virtual std::optional<DrawingLegend> drawing_legend() const;
 
     /// Closest hit of every ray: hits[i] is what intersect(rays[i]) returns, on options.threads
     /// threads. Throws Error if the spans differ in size.
@@ -237,6 +244,33 @@ public:
     Hit intersect(const Ray& ray, TraversalRecorder& recorder) const final {
         if constexpr (requires { Derived::kRecordsSteps; }) recorder.detailed = Derived::kRecordsSteps;
         return self().closest(ray, recorder);
+    }
+    /// Structures whose any-hit walk calls them say so with kRecordsAnyHitSteps = true; the others
+    /// keep Accel's counting default (their any() is not instantiated for a recorder).
+    bool occluded(const Ray& ray, TraversalRecorder& recorder) const final {
+        if constexpr (requires { Derived::kRecordsAnyHitSteps; }) {
+            recorder.detailed = Derived::kRecordsAnyHitSteps;
+            return self().any(ray, recorder);
+        } else {
+            return Accel::occluded(ray, recorder);
+        }
+    }
+
+    /// A structure draws itself when its folder's draw.h declares draw_nodes and draw_legend
+    /// for the type its data() returns (found by argument-dependent lookup); bvh8 overrides.
+    bool for_each_node(const DrawnNodeVisitor& visit) const override {
+        if constexpr (requires { draw_nodes(self().data(), visit); }) {
+            draw_nodes(self().data(), visit);
+            return true;
+        } else {
+            return Accel::for_each_node(visit);
+        }
+    }
+    std::optional<DrawingLegend> drawing_legend() const override {
+        if constexpr (requires { draw_legend(self().data()); })
+            return draw_legend(self().data());
+        else
+            return Accel::drawing_legend();
     }
 
 private:

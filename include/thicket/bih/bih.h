@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "thicket/accel/accel.h"
+#include "thicket/bih/draw.h"
 #include "thicket/bih/build.h"
 #include "thicket/bih/traversal.h"
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "thicket/accel/accel.h"
+#include "thicket/bsp/draw.h"
 #include "thicket/bsp/build.h"
 #include "thicket/bsp/traversal.h"
 

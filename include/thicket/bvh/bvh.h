@@ -47,14 +47,9 @@ public:
         return any_hit<bvh_detail::Query>(data_, prims_, ray, counters, traversal_);
     }
 
-    /// The traversal reports its steps to a TraversalRecorder (Accel::intersect).
+    /// Both traversals report their steps to a TraversalRecorder (Accel::intersect, occluded).
     static constexpr bool kRecordsSteps = true;
-    /// Every node in use from the root, depth first; ids are node-pool indices.
-    bool for_each_node(const std::function<void(const NodeBox&)>& visit) const override {
-        bvh_for_each_node(data_, visit);
-        return true;
-    }
-
+    static constexpr bool kRecordsAnyHitSteps = true;
     NearestPoint closest_point(const Vec3& p) const override {
         if constexpr (HasClosestPoint<Prims>)
             return bvh_closest_point(data_, prims_, p);

@@ -137,10 +137,11 @@ public:
 
     /// The kernels' recording entry reports every step (bvh8/draw.h numbers them).
     static constexpr bool kRecordsSteps = true;
-    bool for_each_node(const std::function<void(const NodeBox&)>& visit) const override {
+    bool for_each_node(const DrawnNodeVisitor& visit) const override {
         bvh8::for_each_node(ctx_, node_count_, kBlocks, visit);
         return true;
     }
+    std::optional<DrawingLegend> drawing_legend() const override { return bvh8::draw_legend(); }
 
     template <class C>
     Hit closest(const Ray& ray, C& counters) const {

@@ -66,15 +66,4 @@ concept RecordsSteps = requires(C& c, uint32_t id, float t) {
     c.record_prim(id, t);
 };
 
-/// A node or cell as a structure draws itself (Accel::for_each_node): its id (the one recorded
-/// steps name), depth from the root (0 for every cell of a one-level grid), box, and whether it
-/// holds primitives directly.
-struct NodeBox {
-    uint32_t id = 0;
-    uint32_t depth = 0;
-    Aabb box;
-    bool leaf = false;
-    uint32_t prims = 0;  ///< primitives (references) a leaf or cell lists
-};
-
 }  // namespace thicket

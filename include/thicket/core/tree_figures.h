@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "thicket/core/aabb.h"
+#include "thicket/core/depth_first.h"
 #include "thicket/core/sah.h"
 
 namespace thicket {
@@ -38,11 +39,8 @@ TreeFigures walk_tree(bool has_nodes, const Aabb& root_box, Expand&& expand) {
     TreeFigures f;
     if (!has_nodes) return f;
     const float root_area = root_box.half_area();
-    std::vector<TreeWalkItem> stack{{0, 0, root_box}};
-    auto push = [&stack](const TreeWalkItem& child) { stack.push_back(child); };
-    while (!stack.empty()) {
-        const TreeWalkItem item = stack.back();
-        stack.pop_back();
+    depth_first(TreeWalkItem{0, 0, root_box}, [&](const TreeWalkItem& item, std::vector<TreeWalkItem>& stack) {
+        auto push = [&stack](const TreeWalkItem& child) { stack.push_back(child); };
         // A degenerate (flat or point-sized) root weighs every node equally.
         const double rel = root_area > 0.0f ? double(item.box.half_area()) / root_area : 1.0;
         ++f.nodes;
@@ -57,7 +55,7 @@ TreeFigures walk_tree(bool has_nodes, const Aabb& root_box, Expand&& expand) {
         } else {
             f.sah_cost += rel * kSahTraversalCost;
         }
-    }
+    });
     return f;
 }
 

@@ -3,6 +3,7 @@
 /// rule, compact cell lists, 3D-DDA traversal with the hit-inside-cell rule and an optional
 /// per-ray mailbox. Usable directly (no virtual call) or through the Accel interface.
 #include "thicket/accel/accel.h"
+#include "thicket/grid/draw.h"
 #include "thicket/grid/grid_build.h"
 #include "thicket/grid/grid_io.h"
 #include "thicket/grid/grid_stats.h"
@@ -36,21 +37,9 @@ public:
         return grid_walk<true>(data_, prims_, ray, unused, options_.mailbox, counters);
     }
 
-    /// The walk reports its steps to a TraversalRecorder (Accel::intersect).
+    /// Both walks report their steps to a TraversalRecorder (Accel::intersect, occluded).
     static constexpr bool kRecordsSteps = true;
-    /// Every non-empty cell, at depth 0; ids are the linear cell indices the walk records.
-    bool for_each_node(const std::function<void(const NodeBox&)>& visit) const override {
-        const GridFrame& f = data_.frame;
-        if (data_.lists.cells() == 0) return true;
-        for (uint32_t z = 0; z < f.res[2]; ++z)
-            for (uint32_t y = 0; y < f.res[1]; ++y)
-                for (uint32_t x = 0; x < f.res[0]; ++x) {
-                    const uint32_t i = f.index(x, y, z), n = data_.lists.count(i);
-                    if (n) visit(NodeBox{i, 0, f.cell_box(x, y, z), true, n});
-                }
-        return true;
-    }
-
+    static constexpr bool kRecordsAnyHitSteps = true;
     AccelStats stats() const override {
         AccelStats s = this->base_stats();
         s.primitives = prims_.size();

@@ -3,6 +3,7 @@
 /// uniform grid whose non-empty cells hold their own uniform sub-grid sized by the density rule
 /// on the cell's primitive count. Same hit-inside-cell rule and per-ray mailbox as the grid.
 #include "thicket/accel/accel.h"
+#include "thicket/grid/draw.h"
 #include "thicket/grid/grid2_build.h"
 #include "thicket/grid/grid2_traversal.h"
 #include "thicket/grid/grid_io.h"

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "thicket/accel/accel.h"
+#include "thicket/kdtree/draw.h"
 #include "thicket/kdtree/build.h"
 #include "thicket/kdtree/traversal.h"
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "thicket/accel/accel.h"
+#include "thicket/obb/draw.h"
 #include "thicket/accel/refit.h"
 #include "thicket/bvh/build.h"
 #include "thicket/obb/build.h"

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "thicket/accel/accel.h"
+#include "thicket/octree/draw.h"
 #include "thicket/octree/build.h"
 #include "thicket/octree/traversal.h"
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "thicket/accel/accel.h"
+#include "thicket/tetra/draw.h"
 #include "thicket/bvh/build.h"
 #include "thicket/bvh/traversal.h"
 #include "thicket/tetra/build.h"
@@ -86,8 +87,9 @@ public:
         return b;
     }
 
-    /// The walk tells a recorder each tetrahedron entered and each primitive tested (traversal.h).
+    /// Both walks tell a recorder each tetrahedron entered and each primitive tested (traversal.h).
     static constexpr bool kRecordsSteps = true;
+    static constexpr bool kRecordsAnyHitSteps = true;
 
     template <class C>
     Hit closest(const Ray& ray, C& counters) const {

@@ -8,7 +8,6 @@
 #include "explore_api.h"
 #include "explore_draw.h"
 #include "explore_json.h"
-#include "explore_record.h"
 #include "thicket/util/parallel.h"
 
 namespace thicket::explore {
@@ -49,7 +48,7 @@ json traversal_json(const Accel& accel, const Scene& scene, const Ray& ray, bool
     Hit hit;
     bool blocked = false;
     if (any_hit)
-        blocked = record_any_hit(accel, ray, rec);
+        blocked = accel.occluded(ray, rec);
     else
         hit = accel.intersect(ray, rec);
     // A structure that reports only some of its steps (grid2's cells share the grid's primitive
@@ -58,25 +57,27 @@ json traversal_json(const Accel& accel, const Scene& scene, const Ray& ray, bool
         rec.steps.clear();
         rec.dropped = 0;
     }
-    // The boxes of the nodes the steps name, found in one pass over the structure's nodes.
-    std::unordered_map<uint32_t, Aabb> boxes;
+    // The nodes the steps name as the structure draws them, found in one pass over its nodes.
+    std::unordered_map<uint32_t, DrawnNode> drawn;
     for (const TraversalStep& s : rec.steps)
-        if (s.kind != TraversalStep::Kind::Prim) boxes.emplace(s.id, Aabb{});
-    if (!boxes.empty())
-        accel.for_each_node([&](const NodeBox& n) {
-            const auto it = boxes.find(n.id);
-            if (it != boxes.end()) it->second = n.box;
+        if (s.kind != TraversalStep::Kind::Prim) drawn.emplace(s.id, DrawnNode{});
+    if (!drawn.empty())
+        accel.for_each_node([&](const DrawnNode& n) {
+            const auto it = drawn.find(n.id);
+            if (it != drawn.end()) it->second = n;
         });
     json steps = json::array();
     for (const TraversalStep& s : rec.steps) {
         json j = {{"kind", kind_name(s.kind)}, {"id", s.id}, {"t", std::isfinite(s.t) ? json(s.t) : json(nullptr)}};
         if (s.kind != TraversalStep::Kind::Prim) {
-            const Aabb& b = boxes[s.id];
-            if (!b.empty()) j["box"] = box_json(b);
+            const DrawnNode& n = drawn[s.id];
+            if (!n.box.empty()) j["box"] = box_json(n.box);
             // A tetrahedral walk names tetrahedra: their corners, for the page to draw the walk.
-            if (const auto corners = tetrahedron_corners(accel, s.id))
-                j["tetrahedron"] = json::array({vec_json((*corners)[0]), vec_json((*corners)[1]),
-                                                vec_json((*corners)[2]), vec_json((*corners)[3])});
+            if (n.shape == DrawnNode::Shape::Tetra) {
+                json corners = json::array();
+                for (const Vec3& p : n.points) corners.push_back(vec_json(p));
+                j["tetrahedron"] = std::move(corners);
+            }
         } else if (s.id < scene.primitive_count()) {
             const PrimRef ref = scene.locate(s.id);
             if (!ref.shape)
@@ -128,30 +129,30 @@ Response Session::nodes(const std::string& body) const {
     json boxes = json::array(), planes = json::array(), oriented = json::array(), tetrahedra = json::array();
     size_t drawn = 0;
     for (size_t i = 0; i < count; i += stride, ++drawn) {
-        const DrawnElement& e = d->elements[i];
+        const DrawnNode& e = d->elements[i];
         json points = json::array();
         for (const Vec3& p : e.points) points.push_back(vec_json(p));
         switch (e.shape) {
-        case DrawnElement::Shape::Box:
+        case DrawnNode::Shape::Box:
             boxes.push_back({{"id", e.id}, {"box", box_json(e.box)}, {"leaf", e.leaf}, {"prims", e.prims}});
             break;
-        case DrawnElement::Shape::Plane: {
+        case DrawnNode::Shape::Plane: {
             json j = {{"id", e.id}, {"polygon", points}};
             if (!e.box.empty()) j["cell"] = box_json(e.box);
             planes.push_back(std::move(j));
             break;
         }
-        case DrawnElement::Shape::Oriented:
+        case DrawnNode::Shape::Oriented:
             oriented.push_back({{"id", e.id}, {"center", points[0]}, {"axes", {points[1], points[2], points[3]}},
                                 {"leaf", e.leaf}, {"prims", e.prims}});
             break;
-        case DrawnElement::Shape::Tetra:
+        case DrawnNode::Shape::Tetra:
             tetrahedra.push_back({{"id", e.id}, {"corners", points}});
             break;
         }
     }
     return json_response({{"structure", a.spec()}, {"depth", depth}, {"max_depth", d->max_depth},
-                          {"drawing", d->kind}, {"depth_means", d->depth_means}, {"count", count}, {"drawn", drawn},
+                          {"drawing", d->legend.kind}, {"depth_means", d->legend.depth_means}, {"count", count}, {"drawn", drawn},
                           {"stride", stride}, {"truncated", stride > 1}, {"limit", kMaxBoxes}, {"boxes", boxes},
                           {"planes", planes}, {"oriented", oriented}, {"tetrahedra", tetrahedra}});
 }
