@@ -23,11 +23,7 @@ struct TreeFigures {
 };
 
 /// A node on the walk: its index, depth (root 0) and box.
-struct TreeWalkItem {
-    uint32_t node = 0;
-    size_t depth = 0;
-    Aabb box;
-};
+using TreeWalkItem = NodeInBox;
 
 /// Walks the tree depth-first from node 0 with box `root_box`. For each node,
 /// `expand(item, rel, push)` returns the leaf's primitive count for a leaf, or std::nullopt for
@@ -44,7 +40,7 @@ TreeFigures walk_tree(bool has_nodes, const Aabb& root_box, Expand&& expand) {
         // A degenerate (flat or point-sized) root weighs every node equally.
         const double rel = root_area > 0.0f ? double(item.box.half_area()) / root_area : 1.0;
         ++f.nodes;
-        f.max_depth = std::max(f.max_depth, item.depth);
+        f.max_depth = std::max<size_t>(f.max_depth, item.depth);
         const std::optional<size_t> leaf = expand(item, rel, push);
         if (leaf) {
             ++f.leaves;
