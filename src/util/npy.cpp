@@ -167,35 +167,6 @@ std::string descr_repr(const NpyHeader& h) {
     return s + "]";
 }
 
-// Opens the file, reads and checks the header, and checks that exactly `item_size` bytes per
-// element follow it. Leaves `in` positioned at the data.
-NpyHeader open_array(const std::string& path, std::ifstream& in, size_t item_size) {
-    NpyHeader h = read_npy_header(path);
-    in.open(path, std::ios::binary);
-    if (!in) throw FileError(path + ": cannot open: " + std::strerror(errno));
-    in.seekg(0, std::ios::end);
-    const auto file_size = static_cast<unsigned long long>(in.tellg());
-    const size_t count = h.element_count();
-    size_t need = 0;
-    if (__builtin_mul_overflow(count, item_size, &need))
-        throw Error(path + ": shape " + shape_repr(h.shape) + " is too large");
-    const unsigned long long have = file_size - h.data_offset;
-    if (have < need)
-        throw Error(path + ": truncated: shape " + shape_repr(h.shape) + " needs " + std::to_string(need) +
-                    " bytes of data, the file has " + std::to_string(have));
-    if (have > need)
-        throw Error(path + ": " + std::to_string(have - need) + " unexpected bytes after the data of shape " +
-                    shape_repr(h.shape));
-    // A sparse file can announce gigabytes it does not hold: say so before allocating them.
-    check_memory(need, path + ": the array of shape " + shape_repr(h.shape));
-    in.seekg(std::streamoff(h.data_offset));
-    return h;
-}
-
-void read_bytes(const std::string& path, std::ifstream& in, void* dst, size_t n) {
-    if (!in.read(static_cast<char*>(dst), std::streamsize(n))) throw Error(path + ": read error");
-}
-
 void write_array(const std::string& path, NpyHeader h, const void* data, size_t bytes) {
     std::string dict = "{'descr': " + descr_repr(h) + ", 'fortran_order': False, 'shape': " + shape_repr(h.shape) + ", }";
     // NumPy leaves room for the first dimension to grow to 21 digits in place; doing the same makes
@@ -236,43 +207,43 @@ size_t NpyHeader::element_count() const {
     return n;
 }
 
-NpyHeader read_npy_header(const std::string& path) {
-    check_regular_input(path, ".npy file");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw FileError(path + ": cannot open: " + std::strerror(errno));
+NpyFile::NpyFile(std::string path) : path_(std::move(path)) {
+    check_regular_input(path_, ".npy file");
+    in_.open(path_, std::ios::binary);
+    if (!in_) throw FileError(path_ + ": cannot open: " + std::strerror(errno));
+    NpyHeader& h = header_;
     unsigned char pre[12] = {};
-    in.read(reinterpret_cast<char*>(pre), 10);
-    if (in.gcount() < 10 || std::memcmp(pre, kMagic, kMagicSize) != 0)
-        throw Error(path + ": not a .npy file (missing the \\x93NUMPY magic)");
-    NpyHeader h;
+    in_.read(reinterpret_cast<char*>(pre), 10);
+    if (in_.gcount() < 10 || std::memcmp(pre, kMagic, kMagicSize) != 0)
+        throw Error(path_ + ": not a .npy file (missing the \\x93NUMPY magic)");
     h.major = pre[6];
     h.minor = pre[7];
     if (h.major < 1 || h.major > 3 || h.minor != 0)
-        throw Error(path + ": unsupported .npy format version " + std::to_string(h.major) + "." +
+        throw Error(path_ + ": unsupported .npy format version " + std::to_string(h.major) + "." +
                     std::to_string(h.minor) + " (supported: 1.0, 2.0, 3.0)");
     size_t header_len = 0, prefix = 10;
     if (h.major == 1) {
         header_len = read_le(pre + 8, 2);
     } else {
-        in.read(reinterpret_cast<char*>(pre + 10), 2);
-        if (in.gcount() < 2) throw Error(path + ": truncated .npy header");
+        in_.read(reinterpret_cast<char*>(pre + 10), 2);
+        if (in_.gcount() < 2) throw Error(path_ + ": truncated .npy header");
         header_len = read_le(pre + 8, 4);
         prefix = 12;
     }
-    if (header_len > kMaxHeaderLen) throw Error(path + ": .npy header length " + std::to_string(header_len) + " is implausible");
+    if (header_len > kMaxHeaderLen) throw Error(path_ + ": .npy header length " + std::to_string(header_len) + " is implausible");
     std::string text(header_len, '\0');
-    in.read(text.data(), std::streamsize(header_len));
-    if (size_t(in.gcount()) < header_len)
-        throw Error(path + ": truncated .npy header (" + std::to_string(in.gcount()) + " of " +
+    in_.read(text.data(), std::streamsize(header_len));
+    if (size_t(in_.gcount()) < header_len)
+        throw Error(path_ + ": truncated .npy header (" + std::to_string(in_.gcount()) + " of " +
                     std::to_string(header_len) + " bytes)");
     h.data_offset = prefix + header_len;
 
-    auto dict = HeaderParser(path, text).parse_dict();
+    auto dict = HeaderParser(path_, text).parse_dict();
     for (const char* key : {"descr", "fortran_order", "shape"})
-        if (!dict.count(key)) throw Error(path + ": .npy header has no '" + std::string(key) + "' key");
+        if (!dict.count(key)) throw Error(path_ + ": .npy header has no '" + std::string(key) + "' key");
     for (const auto& [key, value] : dict)
         if (key != "descr" && key != "fortran_order" && key != "shape")
-            throw Error(path + ": .npy header has an unexpected key '" + key + "'");
+            throw Error(path_ + ": .npy header has an unexpected key '" + key + "'");
 
     const PyValue& descr = dict["descr"];
     if (descr.kind == PyValue::Str) {
@@ -281,55 +252,82 @@ NpyHeader read_npy_header(const std::string& path) {
         for (const PyValue& f : descr.items) {
             if (f.kind != PyValue::Tuple || f.items.size() != 2 || f.items[0].kind != PyValue::Str ||
                 f.items[1].kind != PyValue::Str)
-                throw Error(path + ": unsupported structured dtype (fields must be ('name', 'type') pairs)");
+                throw Error(path_ + ": unsupported structured dtype (fields must be ('name', 'type') pairs)");
             h.fields.emplace_back(f.items[0].str, f.items[1].str);
         }
     } else {
-        throw Error(path + ": .npy header 'descr' is neither a dtype string nor a list of fields");
+        throw Error(path_ + ": .npy header 'descr' is neither a dtype string nor a list of fields");
     }
 
     const PyValue& fortran = dict["fortran_order"];
-    if (fortran.kind != PyValue::Bool) throw Error(path + ": .npy header 'fortran_order' is not True or False");
+    if (fortran.kind != PyValue::Bool) throw Error(path_ + ": .npy header 'fortran_order' is not True or False");
     h.fortran_order = fortran.flag;
     if (h.fortran_order)
-        throw Error(path + ": Fortran-ordered arrays are not supported (save with np.ascontiguousarray)");
+        throw Error(path_ + ": Fortran-ordered arrays are not supported (save with np.ascontiguousarray)");
 
     const PyValue& shape = dict["shape"];
-    if (shape.kind != PyValue::Tuple) throw Error(path + ": .npy header 'shape' is not a tuple");
+    if (shape.kind != PyValue::Tuple) throw Error(path_ + ": .npy header 'shape' is not a tuple");
     for (const PyValue& d : shape.items) {
         if (d.kind != PyValue::Int || d.num < 0)
-            throw Error(path + ": .npy header 'shape' must hold non-negative integers");
+            throw Error(path_ + ": .npy header 'shape' must hold non-negative integers");
         h.shape.push_back(size_t(d.num));
     }
-    if (h.element_count() == ~size_t(0)) throw Error(path + ": shape " + shape_repr(h.shape) + " is too large");
-    return h;
+    if (h.element_count() == ~size_t(0)) throw Error(path_ + ": shape " + shape_repr(h.shape) + " is too large");
 }
 
-NpyFloatArray read_npy_float(const std::string& path) {
-    const NpyHeader peek = read_npy_header(path);
-    const std::string what = peek.fields.empty() ? "'" + peek.descr + "'" : "structured " + descr_repr(peek);
-    size_t item = 0;
-    if (peek.descr == "<f4")
-        item = 4;
-    else if (peek.descr == "<f8")
-        item = 8;
-    else if (peek.descr == ">f4" || peek.descr == ">f8")
-        throw Error(path + ": big-endian dtype " + what + " is not supported (convert with .astype('<f4'))");
-    else
-        throw Error(path + ": dtype " + what + " is not supported (expected float32 '<f4' or float64 '<f8')");
+void NpyFile::check_data_size(size_t item_size) {
+    const NpyHeader& h = header_;
+    in_.seekg(0, std::ios::end);
+    const auto file_size = static_cast<unsigned long long>(in_.tellg());
+    const size_t count = h.element_count();
+    size_t need = 0;
+    if (__builtin_mul_overflow(count, item_size, &need))
+        throw Error(path_ + ": shape " + shape_repr(h.shape) + " is too large");
+    const unsigned long long have = file_size - h.data_offset;
+    if (have < need)
+        throw Error(path_ + ": truncated: shape " + shape_repr(h.shape) + " needs " + std::to_string(need) +
+                    " bytes of data, the file has " + std::to_string(have));
+    if (have > need)
+        throw Error(path_ + ": " + std::to_string(have - need) + " unexpected bytes after the data of shape " +
+                    shape_repr(h.shape));
+    // A sparse file can announce gigabytes it does not hold: say so before allocating them.
+    check_memory(need, path_ + ": the array of shape " + shape_repr(h.shape));
+    in_.seekg(std::streamoff(h.data_offset));
+}
 
-    std::ifstream in;
-    NpyHeader h = open_array(path, in, item);
+void NpyFile::read_bytes(void* dst, size_t n) {
+    if (!in_.read(static_cast<char*>(dst), std::streamsize(n))) throw Error(path_ + ": read error");
+}
+
+void NpyFile::require_matrix(size_t cols) const {
+    if (header_.shape.size() != 2 || header_.shape[1] != cols)
+        throw Error(path_ + ": array shape " + shape_repr(header_.shape) + " is not (N, " + std::to_string(cols) + ")");
+}
+
+NpyFloatArray NpyFile::read_float() {
+    const NpyHeader& h = header_;
+    const std::string what = h.fields.empty() ? "'" + h.descr + "'" : "structured " + descr_repr(h);
+    size_t item = 0;
+    if (h.descr == "<f4")
+        item = 4;
+    else if (h.descr == "<f8")
+        item = 8;
+    else if (h.descr == ">f4" || h.descr == ">f8")
+        throw Error(path_ + ": big-endian dtype " + what + " is not supported (convert with .astype('<f4'))");
+    else
+        throw Error(path_ + ": dtype " + what + " is not supported (expected float32 '<f4' or float64 '<f8')");
+
+    check_data_size(item);
     NpyFloatArray a;
     a.shape = h.shape;
     a.values.resize(h.element_count());
     if (item == 4) {
-        read_bytes(path, in, a.values.data(), a.values.size() * 4);
+        read_bytes(a.values.data(), a.values.size() * 4);
     } else {
         std::vector<double> block(size_t(1) << 16);
         for (size_t done = 0; done < a.values.size();) {
             const size_t n = std::min(block.size(), a.values.size() - done);
-            read_bytes(path, in, block.data(), n * 8);
+            read_bytes(block.data(), n * 8);
             for (size_t i = 0; i < n; ++i) a.values[done + i] = float(block[i]);
             done += n;
         }
@@ -337,54 +335,45 @@ NpyFloatArray read_npy_float(const std::string& path) {
     return a;
 }
 
-NpyFloatArray read_npy_matrix(const std::string& path, size_t cols) {
-    const NpyHeader h = read_npy_header(path);
-    if (h.shape.size() != 2 || h.shape[1] != cols)
-        throw Error(path + ": array shape " + shape_repr(h.shape) + " is not (N, " + std::to_string(cols) + ")");
-    return read_npy_float(path);
+NpyFloatArray NpyFile::read_matrix(size_t cols) {
+    require_matrix(cols);
+    return read_float();
 }
 
-std::vector<double> read_npy_matrix_double(const std::string& path, size_t cols) {
-    const NpyHeader peek = read_npy_header(path);
-    if (peek.descr != "<f8") {
-        const NpyFloatArray narrow = read_npy_matrix(path, cols);  // '<f4', or refused with its reason
+std::vector<double> NpyFile::read_matrix_double(size_t cols) {
+    if (!holds_float64()) {
+        const NpyFloatArray narrow = read_matrix(cols);  // '<f4', or refused with its reason
         return std::vector<double>(narrow.values.begin(), narrow.values.end());
     }
-    if (peek.shape.size() != 2 || peek.shape[1] != cols)
-        throw Error(path + ": array shape " + shape_repr(peek.shape) + " is not (N, " + std::to_string(cols) + ")");
-    std::ifstream in;
-    const NpyHeader h = open_array(path, in, 8);
-    std::vector<double> values(h.element_count());
-    read_bytes(path, in, values.data(), values.size() * 8);
+    require_matrix(cols);
+    check_data_size(8);
+    std::vector<double> values(header_.element_count());
+    read_bytes(values.data(), values.size() * 8);
     return values;
 }
 
-std::vector<uint8_t> read_npy_u8(const std::string& path) {
-    const NpyHeader peek = read_npy_header(path);
-    if (peek.descr != "|u1" && peek.descr != "|b1")
-        throw Error(path + ": dtype " + descr_repr(peek) + " is not supported (expected uint8 '|u1' or bool '|b1')");
-    if (peek.shape.size() != 1) throw Error(path + ": array shape " + shape_repr(peek.shape) + " is not (N,)");
-    std::ifstream in;
-    const NpyHeader h = open_array(path, in, 1);
-    std::vector<uint8_t> values(h.element_count());
-    read_bytes(path, in, values.data(), values.size());
+std::vector<uint8_t> NpyFile::read_u8() {
+    if (header_.descr != "|u1" && header_.descr != "|b1")
+        throw Error(path_ + ": dtype " + descr_repr(header_) + " is not supported (expected uint8 '|u1' or bool '|b1')");
+    if (header_.shape.size() != 1) throw Error(path_ + ": array shape " + shape_repr(header_.shape) + " is not (N,)");
+    check_data_size(1);
+    std::vector<uint8_t> values(header_.element_count());
+    read_bytes(values.data(), values.size());
     return values;
 }
 
-std::vector<Hit> read_npy_hits(const std::string& path) {
-    const NpyHeader peek = read_npy_header(path);
+std::vector<Hit> NpyFile::read_hits() {
     NpyHeader expected;
     expected.fields = {{"t", "<f4"}, {"prim", "<u4"}, {"u", "<f4"}, {"v", "<f4"}};
-    if (peek.fields != expected.fields)
-        throw Error(path + ": dtype " + descr_repr(peek) + " is not the hits dtype " + kNpyHitsDescr);
-    if (peek.shape.size() != 1) throw Error(path + ": array shape " + shape_repr(peek.shape) + " is not (N,)");
-    std::ifstream in;
-    const NpyHeader h = open_array(path, in, 16);
-    std::vector<Hit> hits(h.element_count());
+    if (header_.fields != expected.fields)
+        throw Error(path_ + ": dtype " + descr_repr(header_) + " is not the hits dtype " + kNpyHitsDescr);
+    if (header_.shape.size() != 1) throw Error(path_ + ": array shape " + shape_repr(header_.shape) + " is not (N,)");
+    check_data_size(16);
+    std::vector<Hit> hits(header_.element_count());
     std::vector<unsigned char> block(16 * 4096);
     for (size_t done = 0; done < hits.size();) {
         const size_t n = std::min<size_t>(4096, hits.size() - done);
-        read_bytes(path, in, block.data(), n * 16);
+        read_bytes(block.data(), n * 16);
         for (size_t i = 0; i < n; ++i) {
             Hit& hit = hits[done + i];
             const unsigned char* r = block.data() + 16 * i;
@@ -397,6 +386,15 @@ std::vector<Hit> read_npy_hits(const std::string& path) {
     }
     return hits;
 }
+
+NpyHeader read_npy_header(const std::string& path) { return NpyFile(path).header(); }
+NpyFloatArray read_npy_float(const std::string& path) { return NpyFile(path).read_float(); }
+NpyFloatArray read_npy_matrix(const std::string& path, size_t cols) { return NpyFile(path).read_matrix(cols); }
+std::vector<double> read_npy_matrix_double(const std::string& path, size_t cols) {
+    return NpyFile(path).read_matrix_double(cols);
+}
+std::vector<uint8_t> read_npy_u8(const std::string& path) { return NpyFile(path).read_u8(); }
+std::vector<Hit> read_npy_hits(const std::string& path) { return NpyFile(path).read_hits(); }
 
 void write_npy_f32(const std::string& path, const std::vector<size_t>& shape, std::span<const float> values) {
     NpyHeader h;

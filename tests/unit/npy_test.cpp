@@ -103,6 +103,21 @@ TEST_F(NpyTest, Float32RoundTripWithNumpyHeaderLayout) {
     EXPECT_FALSE(h.fortran_order);
 }
 
+// An NpyFile reads its header once and its data from the same open file: a file replaced
+// between the header and the data (as `numpy.save` or our writers do, by rename) cannot give a
+// header of one array and the data of another.
+TEST_F(NpyTest, OneOpenFileGivesHeaderAndDataOfTheSameArray) {
+    const std::string p = path("a.npy");
+    write_npy_f32(p, {3, 8}, ramp(24));
+    NpyFile file(p);
+    EXPECT_FALSE(file.holds_float64());
+    write_npy_f32(p, {1, 8}, std::vector<float>(8, 7.0f));  // replaced on disk
+    const NpyFloatArray a = file.read_matrix(8);
+    EXPECT_EQ(a.shape, (std::vector<size_t>{3, 8}));
+    EXPECT_EQ(a.values, ramp(24));
+    EXPECT_EQ(read_npy_matrix(p, 8).shape, (std::vector<size_t>{1, 8}));  // a new open sees the new one
+}
+
 TEST_F(NpyTest, OtherShapesAndEmptyArrays) {
     const std::string p = path("a.npy");
     write_npy_f32(p, {5}, ramp(5));

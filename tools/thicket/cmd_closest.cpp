@@ -32,10 +32,11 @@ struct PointArgs {
 /// float32 only: closest points and occupancy are computed in float32 by every structure (no
 /// precision=double form answers them), so a float64 file is refused rather than rounded.
 std::vector<Vec3> read_points(const std::string& path) {
-    if (read_npy_header(path).descr == "<f8")
+    NpyFile file(path);
+    if (file.holds_float64())
         throw Error(path + ": float64 points: closest points and occupancy are computed in float32 by every "
                            "structure (precision=double ones included); save the points as float32");
-    const NpyFloatArray values = read_npy_matrix(path, 3);
+    const NpyFloatArray values = file.read_matrix(3);
     const size_t n = values.shape[0];
     std::vector<Vec3> points(n);
     for (size_t i = 0; i < n; ++i) points[i] = {values.values[3 * i], values.values[3 * i + 1], values.values[3 * i + 2]};

@@ -4,6 +4,7 @@
 /// Every error is a thicket::Error whose message starts with the file's path.
 #include <cstddef>
 #include <cstdint>
+#include <fstream>
 #include <span>
 #include <string>
 #include <utility>
@@ -32,20 +33,47 @@ struct NpyFloatArray {
     std::vector<float> values;
 };
 
-/// Reads and validates a header (magic, version, dict keys, shape, C order) without the data.
-NpyHeader read_npy_header(const std::string& path);
+/// An opened .npy file: the header is read and checked once (magic, version, dict keys, shape,
+/// C order) and the stream stays at the data. Each read_* checks the dtype and shape it needs and
+/// that the data exactly fills the rest of the file, then reads it: one read per file.
+class NpyFile {
+public:
+    explicit NpyFile(std::string path);
 
-/// Reads an array of dtype '<f4' or '<f8' (converted to float) of any shape, checking that the
-/// data exactly fills the rest of the file.
+    const NpyHeader& header() const { return header_; }
+    const std::string& path() const { return path_; }
+    /// True for dtype '<f8': the caller picks read_matrix_double() to keep the precision.
+    bool holds_float64() const { return header_.descr == "<f8"; }
+
+    /// An array of dtype '<f4' or '<f8' (converted to float) of any shape.
+    NpyFloatArray read_float();
+    /// Same, and requires the shape (N, cols).
+    NpyFloatArray read_matrix(size_t cols);
+    /// Shape (N, cols), dtype '<f8' (or '<f4', widened exactly) as doubles in C order: the rays of
+    /// `thicket trace` for a precision=double structure.
+    std::vector<double> read_matrix_double(size_t cols);
+    /// A 1-D array of dtype '|u1' or '|b1'.
+    std::vector<uint8_t> read_u8();
+    /// A 1-D array of the hits dtype written by write_npy_hits(); t, u, v, prim as stored.
+    std::vector<Hit> read_hits();
+
+private:
+    /// Checks that `item_size` bytes per element fill the rest of the file, within memory.
+    void check_data_size(size_t item_size);
+    void read_bytes(void* dst, size_t n);
+    void require_matrix(size_t cols) const;
+
+    std::string path_;
+    std::ifstream in_;
+    NpyHeader header_;
+};
+
+/// The one-call forms, for a file read once: NpyFile(path).read_*().
+NpyHeader read_npy_header(const std::string& path);
 NpyFloatArray read_npy_float(const std::string& path);
-/// Same, and requires the shape (N, cols).
 NpyFloatArray read_npy_matrix(const std::string& path, size_t cols);
-/// Reads an array of shape (N, cols) and dtype '<f8' (or '<f4', widened exactly) as doubles, in
-/// C order: the rays of `thicket trace` for a precision=double structure.
 std::vector<double> read_npy_matrix_double(const std::string& path, size_t cols);
-/// Reads a 1-D array of dtype '|u1' or '|b1'.
 std::vector<uint8_t> read_npy_u8(const std::string& path);
-/// Reads a 1-D array of the hits dtype written by write_npy_hits(); t, u, v, prim as stored.
 std::vector<Hit> read_npy_hits(const std::string& path);
 
 /// The structured dtype of hit records, as NumPy spells it.
