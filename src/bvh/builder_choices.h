@@ -78,12 +78,6 @@ inline OptionInfo sah_block_option(const char* default_value) {
             16};
 }
 
-/// Reads the sbvh and ploc options into `o`.
-inline void read_sbvh_options(const AccelSpec& spec, BvhBuildOptions& o) {
-    o.sbvh_alpha = spec.get_real("alpha");
-    o.sbvh_budget = spec.get_real("budget");
-    o.ploc_radius = uint32_t(spec.get_int("radius"));
-}
 
 /// The `optimize` and `passes` options of every structure built on the binary BVH.
 inline std::vector<OptionInfo> bvh_optimize_options() {
@@ -93,6 +87,26 @@ inline std::vector<OptionInfo> bvh_optimize_options() {
                           BvhOptimize::None, kBvhOptimizers),
             {"passes", "optimize=reinsertion's budget: passes at most (each moves up to 5% of the nodes)", "3", {}, 1,
              100}};
+}
+
+/// Reads bvh_optimize_options() into `o`, and the build's threads.
+inline void read_optimize_options(const AccelSpec& spec, BvhBuildOptions& o) {
+    o.threads = spec.threads;
+    o.optimize = spec.choice("optimize", kBvhOptimizers);
+    o.optimize_passes = int(spec.get_int("passes"));
+}
+
+/// Reads the options of a structure built on the binary BVH with kBvhBuilders (bvh, bvh8): the
+/// builder, bins, max-leaf, sah-block, the sbvh and ploc options and read_optimize_options().
+inline void read_binary_bvh_options(const AccelSpec& spec, BvhBuildOptions& o) {
+    o.builder = spec.choice("builder", kBvhBuilders);
+    o.bins = int(spec.get_int("bins"));
+    o.max_leaf = int(spec.get_int("max-leaf"));
+    o.sah_block = uint32_t(spec.get_int("sah-block"));
+    o.sbvh_alpha = spec.get_real("alpha");
+    o.sbvh_budget = spec.get_real("budget");
+    o.ploc_radius = uint32_t(spec.get_int("radius"));
+    read_optimize_options(spec, o);
 }
 
 }  // namespace thicket

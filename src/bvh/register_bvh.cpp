@@ -20,14 +20,7 @@ constexpr Choice<BvhTraversal> kTraversals[] = {
 
 BvhBuildOptions build_options(const AccelSpec& spec) {
     BvhBuildOptions o;
-    o.builder = spec.choice("builder", kBvhBuilders);
-    o.bins = int(spec.get_int("bins"));
-    o.max_leaf = int(spec.get_int("max-leaf"));
-    o.sah_block = uint32_t(spec.get_int("sah-block"));
-    o.threads = spec.threads;
-    o.optimize = spec.choice("optimize", kBvhOptimizers);
-    o.optimize_passes = int(spec.get_int("passes"));
-    read_sbvh_options(spec, o);
+    read_binary_bvh_options(spec, o);
     return o;
 }
 

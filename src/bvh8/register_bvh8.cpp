@@ -16,18 +16,14 @@ constexpr Choice<bool> kNodeLayouts[] = {{"full", false}, {"compressed", true}};
 // The default of `bins`, which the quality presets set too.
 constexpr const char* kDefaultBins = "16";
 
+/// The `isa` option resolved (auto: the CPU's best): what the build and the kernels listing use.
+Isa chosen_isa(const AccelSpec& spec) { return resolve_isa(spec.get("isa"), "bvh8"); }
+
 Bvh8Options bvh8_options(const AccelSpec& spec) {
     Bvh8Options o;
-    o.binary.builder = spec.choice("builder", kBvhBuilders);
-    o.binary.bins = int(spec.get_int("bins"));
-    o.binary.max_leaf = int(spec.get_int("max-leaf"));
-    o.binary.sah_block = uint32_t(spec.get_int("sah-block"));
-    o.binary.threads = spec.threads;
-    o.binary.optimize = spec.choice("optimize", kBvhOptimizers);
-    o.binary.optimize_passes = int(spec.get_int("passes"));
-    read_sbvh_options(spec, o.binary);
+    read_binary_bvh_options(spec, o.binary);
     o.merge_below = uint32_t(spec.get_int("leaf-merge"));
-    o.isa = resolve_isa(spec.get("isa"), "bvh8");
+    o.isa = chosen_isa(spec);
     o.packets = spec.choice("packets", kOnOff);
     o.compressed = spec.choice("nodes", kNodeLayouts);
     return o;
@@ -104,7 +100,7 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
     info.build = [](const Scene& scene, const AccelSpec& spec) {
         return make_structure<Bvh8>(scene, spec, bvh8_options(spec));
     };
-    info.kernels = [](const AccelSpec& spec) { return std::string(isa_name(resolve_isa(spec.get("isa"), "bvh8"))); };
+    info.kernels = [](const AccelSpec& spec) { return std::string(isa_name(chosen_isa(spec))); };
     info.load = [](std::istream& in, const Scene& scene, const AccelSpec& spec) {
         bvh8::SavedTree saved = bvh8::read_tree(in, scene.primitive_count());
         return make_structure<Bvh8>(scene, spec, bvh8_options(spec), std::move(saved));

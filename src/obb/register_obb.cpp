@@ -13,9 +13,7 @@ ObbBuildOptions build_options(const AccelSpec& spec) {
     ObbBuildOptions o;
     o.bvh.builder = spec.choice("builder", kObjectBvhBuilders);
     o.bvh.max_leaf = int(spec.get_int("max-leaf"));
-    o.bvh.threads = spec.threads;
-    o.bvh.optimize = spec.choice("optimize", kBvhOptimizers);
-    o.bvh.optimize_passes = int(spec.get_int("passes"));
+    read_optimize_options(spec, o.bvh);
     o.fit = spec.choice("fit", kFits);
     return o;
 }
