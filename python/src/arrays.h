@@ -14,10 +14,6 @@
 #include "thicket/accel/ray_rows.h"
 #include "thicket/core/ray.h"
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
 namespace thicket::python {
 
 namespace py = pybind11;
@@ -58,20 +54,6 @@ Rows float32_rows(const py::handle& obj, const char* what, std::initializer_list
 /// ray's interval, rows of 8 carry their own.
 inline RayRows ray_rows(const Rows& rows, float tnear = 0.0f, float tfar = kInfinity) {
     return RayRows{rows.data(), rows.count, rows.width, tnear, tfar};
-}
-
-/// Output arrays of at least this many bytes are written with non-temporal stores, which go to
-/// memory without reading the line first: a plain store to a cold line reads it in, so that
-/// cast_rays' 32 bytes of answers per ray moved 64, and the lines brought in evicted the nodes
-/// that the tracing needs. A smaller array, which the caller reads at once, goes through the cache.
-inline constexpr size_t kStreamBytes = size_t(1) << 20;
-
-/// Non-temporal stores are weakly ordered: fenced, a thread's streamed answers are seen before
-/// its later stores (the end of the parallel loop that hands the arrays back to Python among them).
-inline void stream_fence() {
-#if defined(__SSE2__)
-    _mm_sfence();
-#endif
 }
 
 /// MemoryError "<query>: answering an array of shape (...) needs ..." unless `bytes_per_row`

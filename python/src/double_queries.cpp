@@ -5,7 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "thicket/accel/crossings_double.h"
+#include "thicket/accel/double_rays.h"
+#include "thicket/accel/registry.h"
 #include "thicket/core/error.h"
 #include "thicket/util/parallel.h"
 
@@ -13,41 +14,35 @@ namespace thicket::python {
 
 namespace {
 
-/// The rays of a float64 array as RayD, with whether each means anything (make_ray_double: a
-/// ray that does not is answered as a miss, as float rows are).
+/// A float64 array's rows and their rays (accel/double_rays.h: a row without a meaning is
+/// answered as a miss, as float rows are).
 struct DoubleRays {
     RowsD rows;
-    std::vector<RayD> rays;
-    std::vector<uint8_t> valid;
+    RayBatchD batch;
 };
 
 /// `obj`'s rows (..., 6) or (..., 8) as double rays for `query`, rows of 6 taking [tnear, tfar];
 /// `answer_bytes` per row is what the query's answers will take, checked with the rays'.
 DoubleRays double_rays(const AccelHandle& h, const py::handle& obj, const char* query, size_t answer_bytes,
-                       std::optional<float> tnear = {}, std::optional<float> tfar = {}) {
+                       unsigned threads, std::optional<float> tnear = {}, std::optional<float> tfar = {}) {
     if (!h.accel->double_precision())
-        throw py::value_error("rays: float64 rays are traced by structures built with precision=double (e.g. "
-                              "'bvh:precision=double'), and this one is '" +
-                              h.accel->spec() + "': build one with precision=double, or convert the rays with "
-                                                ".astype(numpy.float32)");
-    DoubleRays out{typed_rows<double>(obj, "rays", {6, 8}, ""), {}, {}};
+        throw py::value_error(
+            float64_rays_refusal("rays", "'" + h.accel->spec() + "'", "convert the rays with .astype(numpy.float32)"));
+    DoubleRays out{typed_rows<double>(obj, "rays", {6, 8}, ""), {}};
     const RowsD& rows = out.rows;
     check_interval_arguments(rows, tnear, tfar);
     check_answer_memory(rows, sizeof(RayD) + 1 + answer_bytes, query);
-    const double lo = tnear ? double(*tnear) : 0.0;
-    const double hi = tfar ? double(*tfar) : std::numeric_limits<double>::infinity();
-    const double* data = rows.data();
-    const size_t width = rows.width;
-    out.rays.resize(rows.count);
-    out.valid.resize(rows.count);
-    for (size_t i = 0; i < rows.count; ++i) {
-        double r[8];
-        std::copy(data + i * width, data + i * width + 6, r);
-        r[6] = width == 8 ? data[i * width + 6] : lo;
-        r[7] = width == 8 ? data[i * width + 7] : hi;
-        out.valid[i] = make_ray_double(r, out.rays[i]) ? 1 : 0;
-    }
+    RayRowsD in{rows.data(), rows.count, rows.width};
+    if (tnear) in.tmin = double(*tnear);
+    if (tfar) in.tmax = double(*tfar);
+    out.batch = make_rays(in, threads);
     return out;
+}
+
+BatchOptions on_threads(unsigned threads) {
+    BatchOptions options;
+    options.threads = threads;
+    return options;
 }
 
 }  // namespace
@@ -57,25 +52,23 @@ bool is_float64_array(const py::handle& obj) {
 }
 
 py::dict cast_rays_double(const AccelHandle& h, const py::handle& rays_obj, unsigned threads) {
-    const DoubleRays in = double_rays(h, rays_obj, "cast_rays", 8 + 4 + 4 + 16 + 12);  // t, two ids, uv, normal
-    const std::vector<py::ssize_t>& lead = in.rows.lead;
-    auto t_hit = new_array<double>(lead);
-    auto geometry_ids = new_array<uint32_t>(lead);
-    auto primitive_ids = new_array<uint32_t>(lead);
-    auto uvs = new_array<double>(lead, {2});
-    auto normals = new_array<float>(lead, {3});
-    double* t = t_hit.mutable_data();
-    uint32_t* geom = geometry_ids.mutable_data();
-    uint32_t* prim = primitive_ids.mutable_data();
-    double* uv = uvs.mutable_data();
-    float* nrm = normals.mutable_data();
+    // The hits, then t, two ids, uv and normal.
+    const DoubleRays in = double_rays(h, rays_obj, "cast_rays", sizeof(HitD) + 8 + 4 + 4 + 16 + 12, threads);
+    CastArrays<double> a(in.rows.lead);
+    double* t = a.t_hit.mutable_data();
+    uint32_t* geom = a.geometry_ids.mutable_data();
+    uint32_t* prim = a.primitive_ids.mutable_data();
+    double* uv = a.uvs.mutable_data();
+    float* nrm = a.normals.mutable_data();
     {
         py::gil_scoped_release nogil;
-        parallel_for(in.rays.size(), kBatchGrain, threads, [&](size_t begin, size_t end) {
+        std::vector<HitD> hits(in.batch.size());
+        closest_hits(*h.accel, in.batch, hits, on_threads(threads));
+        parallel_for(hits.size(), kBatchGrain, threads, [&](size_t begin, size_t end) {
             for (size_t i = begin; i < end; ++i) {
-                const HitD hit = in.valid[i] ? h.accel->intersect_double(in.rays[i]) : HitD{};
+                const HitD& hit = hits[i];
                 const bool found = hit.found();
-                const RayD& r = in.rays[i];
+                const RayD& r = in.batch.rays[i];
                 const Vec3 n = found ? h.scene->normal(Ray{r.org.to_float(), 0.0f, r.dir.to_float(), kInfinity},
                                                        to_hit(hit))
                                      : Vec3{0, 0, 0};
@@ -90,35 +83,29 @@ py::dict cast_rays_double(const AccelHandle& h, const py::handle& rays_obj, unsi
             }
         });
     }
-    py::dict out;
-    out["t_hit"] = t_hit;
-    out["geometry_ids"] = geometry_ids;
-    out["primitive_ids"] = primitive_ids;
-    out["primitive_uvs"] = uvs;
-    out["primitive_normals"] = normals;
-    return out;
+    return a.answer();
 }
 
 py::array test_occlusions_double(const AccelHandle& h, const py::handle& rays_obj, std::optional<float> tnear,
                                  std::optional<float> tfar, unsigned threads) {
-    const DoubleRays in = double_rays(h, rays_obj, "test_occlusions", sizeof(bool), tnear, tfar);
+    const DoubleRays in = double_rays(h, rays_obj, "test_occlusions", 2 * sizeof(bool), threads, tnear, tfar);
     auto result = new_array<bool>(in.rows.lead);
-    bool* out = result.mutable_data();
     {
         py::gil_scoped_release nogil;
-        parallel_for(in.rays.size(), kBatchGrain, threads, [&](size_t begin, size_t end) {
-            for (size_t i = begin; i < end; ++i) out[i] = in.valid[i] && h.accel->occluded_double(in.rays[i]);
-        });
+        std::vector<uint8_t> occluded(in.batch.size());
+        occlusions(*h.accel, in.batch, occluded, on_threads(threads));
+        std::copy(occluded.begin(), occluded.end(), result.mutable_data());
     }
     return result;
 }
 
 py::array count_intersections_double(const AccelHandle& h, const py::handle& rays_obj, unsigned threads) {
-    const DoubleRays in = double_rays(h, rays_obj, "count_intersections", sizeof(int32_t) + sizeof(uint32_t));
-    std::vector<uint32_t> counts(in.rays.size());
+    const DoubleRays in =
+        double_rays(h, rays_obj, "count_intersections", sizeof(int32_t) + sizeof(uint32_t), threads);
+    std::vector<uint32_t> counts(in.batch.size());
     {
         py::gil_scoped_release nogil;
-        count_hits_double(*h.accel, in.rays, in.valid, counts, threads);
+        crossing_counts(*h.accel, in.batch, counts, on_threads(threads));
     }
     auto result = new_array<int32_t>(in.rows.lead);
     std::copy(counts.begin(), counts.end(), result.mutable_data());
@@ -126,12 +113,13 @@ py::array count_intersections_double(const AccelHandle& h, const py::handle& ray
 }
 
 py::dict list_intersections_double(const AccelHandle& h, const py::handle& rays_obj, unsigned threads) {
-    const DoubleRays in = double_rays(h, rays_obj, "list_intersections", sizeof(uint32_t) + sizeof(size_t));
-    const size_t rays = in.rays.size();
+    const DoubleRays in =
+        double_rays(h, rays_obj, "list_intersections", sizeof(uint32_t) + sizeof(size_t), threads);
+    const size_t rays = in.batch.size();
     std::vector<uint32_t> counts(rays);
     {
         py::gil_scoped_release nogil;
-        count_hits_double(*h.accel, in.rays, in.valid, counts, threads);
+        crossing_counts(*h.accel, in.batch, counts, on_threads(threads));
     }
     uint64_t n = 0;
     for (const uint32_t c : counts) n += c;
@@ -142,7 +130,7 @@ py::dict list_intersections_double(const AccelHandle& h, const py::handle& rays_
     HitListsD lists;
     {
         py::gil_scoped_release nogil;
-        lists = list_hits_double(*h.accel, in.rays, in.valid, counts, threads);
+        lists = crossing_lists(*h.accel, in.batch, counts, on_threads(threads));
     }
     return intersection_lists_answer<double>(*h.scene, lists, rays);
 }

@@ -10,6 +10,7 @@
 #include <span>
 #include <vector>
 
+#include "thicket/accel/hit_columns.h"
 #include "thicket/accel/point_queries.h"
 #include "thicket/accel/ray_rows.h"
 #include "thicket/core/error.h"
@@ -19,9 +20,6 @@ namespace thicket::python {
 
 namespace {
 
-/// The geometry id of a one-geometry scene's hits: what put4 writes from the miss mask alone.
-constexpr uint32_t kGeometryId = 0;
-
 /// h.triangle_normals, made on first use for a triangle scene (null for a scene with shapes or instances,
 /// whose normals depend on the hit point). Call with the GIL held; it is released while the
 /// normals are computed, in parallel, with Scene::normal itself, so that they are its bits.
@@ -29,7 +27,7 @@ std::shared_ptr<const std::vector<Vec3>> triangle_normals(AccelHandle& h, unsign
     // With instances hit.prim is a flattened id, which no per-triangle table covers.
     if (h.triangle_normals || h.scene->has_shapes() || !h.scene->instances.empty()) return h.triangle_normals;
     const size_t count = h.scene->mesh.triangle_count();
-    // Two zero entries past the last: a miss's normal (CastOutputs::put4), and room for reading
+    // Two zero entries past the last: a miss's normal (HitColumns::put_chunk), and room for reading
     // any entry as four floats.
     auto normals = std::make_shared<std::vector<Vec3>>(count + 2, Vec3{0, 0, 0});
     {
@@ -41,82 +39,6 @@ std::shared_ptr<const std::vector<Vec3>> triangle_normals(AccelHandle& h, unsign
     if (!h.triangle_normals) h.triangle_normals = std::move(normals);
     return h.triangle_normals;
 }
-
-/// cast_rays' five arrays, as the worker threads write them: with non-temporal stores when they
-/// are large (kStreamBytes says why) and 16-byte aligned, through the cache otherwise. Written
-/// row by row through the cache they took ~5% of cast_rays' time on 10^6 rays (perf).
-struct CastOutputs {
-    float* t;
-    uint32_t* geom;
-    uint32_t* prim;
-    float* uv;
-    float* nrm;
-    bool stream;
-    const Scene* scene;  ///< names the geometry of each hit (Scene::geometry_of)
-
-    /// Row `row` answers `hit` (a miss: t inf, ids 4294967295, zero uv and normal); n is the hit's normal.
-    void put(size_t row, const Hit& hit, const Vec3& n) const {
-        const bool found = hit.found();
-        // A miss is +inf, not the ray's tmax (Open3D's and `thicket trace`'s convention).
-        store(t + row, found ? hit.t : kInfinity);
-        store(geom + row, scene->geometry_of(hit.prim));  // a miss's kNoPrim stays kNoPrim
-        store(prim + row, hit.prim);
-        store(uv + 2 * row, found ? hit.u : 0.0f);
-        store(uv + 2 * row + 1, found ? hit.v : 0.0f);
-        store(nrm + 3 * row, found ? n.x : 0.0f);
-        store(nrm + 3 * row + 1, found ? n.y : 0.0f);
-        store(nrm + 3 * row + 2, found ? n.z : 0.0f);
-    }
-
-#if defined(__SSE2__)
-    /// Rows row .. row + 3 (row a multiple of 4) answer hits[0 .. 4), as put() would with the
-    /// normals of `table` (triangle_normals': a miss reads its zero entry at `miss_entry`), for a
-    /// scene of one geometry. Four rows at once take a third of the instructions of four put() calls.
-    void put4(size_t row, const Hit* hits, const Vec3* table, uint32_t miss_entry) const {
-        static_assert(kGeometryId == 0 && kNoPrim == 0xFFFFFFFFu, "a geometry id is the miss mask");
-        __m128 ht = _mm_loadu_ps(&hits[0].t), hu = _mm_loadu_ps(&hits[1].t);
-        __m128 hv = _mm_loadu_ps(&hits[2].t), hp = _mm_loadu_ps(&hits[3].t);
-        _MM_TRANSPOSE4_PS(ht, hu, hv, hp);  // rows of t, u, v and the primitives' bits
-        const __m128 miss = _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_castps_si128(hp), _mm_set1_epi32(-1)));
-        store4(t + row, _mm_or_ps(_mm_andnot_ps(miss, ht), _mm_and_ps(miss, _mm_set1_ps(kInfinity))));
-        store4(reinterpret_cast<float*>(geom + row), miss);
-        store4(reinterpret_cast<float*>(prim + row), hp);
-        const __m128 u = _mm_andnot_ps(miss, hu), v = _mm_andnot_ps(miss, hv);
-        store4(uv + 2 * row, _mm_unpacklo_ps(u, v));
-        store4(uv + 2 * row + 4, _mm_unpackhi_ps(u, v));
-        // Each normal read as four floats (x y z and the next entry's x), then packed into three
-        // rows of four: x0 y0 z0 x1 | y1 z1 x2 y2 | z2 x3 y3 z3.
-        __m128 n[4];
-        for (int i = 0; i < 4; ++i) n[i] = _mm_loadu_ps(&table[hits[i].found() ? hits[i].prim : miss_entry].x);
-        const __m128 z0x1 = _mm_shuffle_ps(n[0], n[1], _MM_SHUFFLE(0, 0, 2, 2));  // z0 z0 x1 x1
-        const __m128 z2x3 = _mm_shuffle_ps(n[2], n[3], _MM_SHUFFLE(0, 0, 2, 2));  // z2 z2 x3 x3
-        store4(nrm + 3 * row, _mm_shuffle_ps(n[0], z0x1, _MM_SHUFFLE(2, 0, 1, 0)));
-        store4(nrm + 3 * row + 4, _mm_shuffle_ps(n[1], n[2], _MM_SHUFFLE(1, 0, 2, 1)));
-        store4(nrm + 3 * row + 8, _mm_shuffle_ps(z2x3, n[3], _MM_SHUFFLE(2, 1, 2, 0)));
-    }
-
-    void store4(float* p, __m128 v) const {
-        if (stream)
-            _mm_stream_ps(p, v);
-        else
-            _mm_storeu_ps(p, v);
-    }
-#endif
-
-    template <class T>
-    void store(T* p, T v) const {
-#if defined(__SSE2__)
-        if (stream) {
-            int bits;
-            static_assert(sizeof bits == sizeof v);
-            std::memcpy(&bits, &v, sizeof bits);
-            _mm_stream_si32(reinterpret_cast<int*>(p), bits);
-            return;
-        }
-#endif
-        *p = v;
-    }
-};
 
 }  // namespace
 
@@ -132,50 +54,20 @@ py::dict cast_rays(AccelHandle& h, const py::handle& rays_obj, unsigned threads,
     const std::shared_ptr<const std::vector<Vec3>> normal_table = triangle_normals(h, threads);
     const Vec3* table = normal_table && normal_table->size() > 2 ? normal_table->data() : nullptr;
     const uint32_t miss_entry = normal_table ? uint32_t(normal_table->size() - 2) : 0;
-    // numpy allocates without touching: the worker threads that write a chunk's answers take its
-    // pages' first-touch faults, in parallel and next to the tracing.
-    auto t_hit = new_array<float>(rows.lead);
-    auto geometry_ids = new_array<uint32_t>(rows.lead);
-    auto primitive_ids = new_array<uint32_t>(rows.lead);
-    auto uvs = new_array<float>(rows.lead, {2});
-    auto normals = new_array<float>(rows.lead, {3});
+    CastArrays<float> a(rows.lead);
     // Taken with the GIL held; the arrays stay alive in this frame.
-    CastOutputs o{t_hit.mutable_data(), geometry_ids.mutable_data(), primitive_ids.mutable_data(),
-                    uvs.mutable_data(), normals.mutable_data(), false, h.scene.get()};
-    const bool one_geometry = h.scene->geometry_count() <= 1;
-    const auto aligned = [](const void* p) { return reinterpret_cast<uintptr_t>(p) % 16 == 0; };
-    o.stream = size_t(t_hit.nbytes()) >= kStreamBytes && aligned(o.t) && aligned(o.geom) && aligned(o.prim) &&
-               aligned(o.uv) && aligned(o.nrm);
+    HitColumns o{a.t_hit.mutable_data(), a.geometry_ids.mutable_data(), a.primitive_ids.mutable_data(),
+                 a.uvs.mutable_data(), a.normals.mutable_data(), h.scene.get()};
+    o.stream_when_large(rows.count);
     {
         py::gil_scoped_release nogil;
         for_each_ray_chunk(ray_rows(rows), threads, [&](const RayChunk& c) {
             Uninitialized<Hit> hits;
             h.accel->intersect_chunk(c.span(), {hits.data, c.count}, coherent);
-            if (table)  // the table is cold (tracing evicts it): its misses overlap when asked for first
-                for (size_t k = 0; k < c.count; ++k)
-                    if (hits.data[k].found()) __builtin_prefetch(table + hits.data[k].prim);
-            size_t k = 0;
-#if defined(__SSE2__)
-            if (c.complete() && table && one_geometry)  // nearly every chunk: c.begin and k are multiples of 4
-                for (; k + 4 <= c.count; k += 4) o.put4(c.begin + k, hits.data + k, table, miss_entry);
-#endif
-            if (!c.complete())  // rows without a ray are misses
-                for (size_t row = c.begin; row < c.end; ++row) o.put(row, Hit{}, Vec3{0, 0, 0});
-            for (; k < c.count; ++k) {
-                const Hit& hit = hits.data[k];
-                const Vec3 n = !hit.found() ? Vec3{0, 0, 0} : table ? table[hit.prim] : h.scene->normal(c.rays.data[k], hit);
-                o.put(c.row(k), hit, n);
-            }
-            stream_fence();
+            o.put_chunk(c, hits.data, table, miss_entry);
         });
     }
-    py::dict out;
-    out["t_hit"] = t_hit;
-    out["geometry_ids"] = geometry_ids;
-    out["primitive_ids"] = primitive_ids;
-    out["primitive_uvs"] = uvs;
-    out["primitive_normals"] = normals;
-    return out;
+    return a.answer();
 }
 
 py::array test_occlusions(const AccelHandle& h, const py::handle& rays_obj, std::optional<float> tnear,
@@ -314,13 +206,8 @@ py::dict compute_closest_points(AccelHandle& h, const py::handle& points_obj, un
             }
         });
     }
-    py::dict out;
-    out["points"] = points;
-    out["geometry_ids"] = geometry_ids;
-    out["primitive_ids"] = primitive_ids;
-    out["primitive_uvs"] = uvs;
-    out["primitive_normals"] = normals;
-    return out;
+    return named_answers({{"points", points}, {"geometry_ids", geometry_ids}, {"primitive_ids", primitive_ids},
+                          {"primitive_uvs", uvs}, {"primitive_normals", normals}});
 }
 
 py::array compute_distance(AccelHandle& h, const py::handle& points_obj, unsigned threads) {

@@ -4,6 +4,7 @@
 // through the library's batch API (all cores unless nthreads says otherwise), one chunk of
 // kBatchGrain rows at a time: each thread converts its chunk's rows, traces them and writes the
 // answers into the output arrays, so the module adds no pass over the batch of its own.
+#include <initializer_list>
 #include <memory>
 #include <optional>
 #include <string>
@@ -35,6 +36,36 @@ struct AccelHandle {
     std::shared_ptr<const std::vector<Vec3>> triangle_normals;
     /// The saved structure it was loaded from (thicket.load), which Accel.save never replaces.
     std::optional<InputFile> saved_from;
+};
+
+/// A dict of the named answers, in order: what every query that answers several arrays returns.
+inline py::dict named_answers(std::initializer_list<std::pair<const char*, py::object>> answers) {
+    py::dict out;
+    for (const auto& [name, value] : answers) out[name] = value;
+    return out;
+}
+
+/// cast_rays' five arrays over the rays' leading shape, t_hit and primitive_uvs as `Real`
+/// (float32 for float rays, float64 for float64 ones), allocated untouched: the threads that
+/// write a chunk's answers take its pages' first-touch faults, in parallel with the tracing.
+template <class Real>
+struct CastArrays {
+    explicit CastArrays(const std::vector<py::ssize_t>& lead)
+        : t_hit(new_array<Real>(lead)),
+          geometry_ids(new_array<uint32_t>(lead)),
+          primitive_ids(new_array<uint32_t>(lead)),
+          uvs(new_array<Real>(lead, {2})),
+          normals(new_array<float>(lead, {3})) {}
+    py::array_t<Real> t_hit;
+    py::array_t<uint32_t> geometry_ids, primitive_ids;
+    py::array_t<Real> uvs;
+    py::array_t<float> normals;
+
+    /// The dict cast_rays returns, Open3D's keys.
+    py::dict answer() const {
+        return named_answers({{"t_hit", t_hit}, {"geometry_ids", geometry_ids}, {"primitive_ids", primitive_ids},
+                              {"primitive_uvs", uvs}, {"primitive_normals", normals}});
+    }
 };
 
 /// Open3D's cast_rays: dict of t_hit (inf on a miss), geometry_ids (0, or 4294967295 on a miss),
@@ -86,14 +117,8 @@ py::dict intersection_lists_answer(const Scene& scene, const Lists& lists, size_
                 uv[2 * j + 1] = hit.v;
             }
     }
-    py::dict out;
-    out["ray_splits"] = splits;
-    out["ray_ids"] = ray_ids;
-    out["t_hit"] = t_hit;
-    out["geometry_ids"] = geometry_ids;
-    out["primitive_ids"] = primitive_ids;
-    out["primitive_uvs"] = uvs;
-    return out;
+    return named_answers({{"ray_splits", splits}, {"ray_ids", ray_ids}, {"t_hit", t_hit},
+                          {"geometry_ids", geometry_ids}, {"primitive_ids", primitive_ids}, {"primitive_uvs", uvs}});
 }
 
 /// Open3D's compute_closest_points for points (..., 3): dict of points, geometry_ids,

@@ -260,6 +260,19 @@ std::unique_ptr<Accel> build_accel(const AccelSpec& parsed, const Scene& scene, 
     return accel;
 }
 
+bool takes_double_rays(const AccelSpec& spec) { return spec.options.count("precision") && wants_double(spec); }
+
+std::string float64_rays_refusal(const std::string& rays, const std::string& structure, const std::string& fix) {
+    std::vector<std::string> doubles;
+    for (const AccelInfo& info : accel_registry())
+        for (const OptionInfo& o : info.options)
+            if (o.key == "precision") doubles.push_back(info.name + ":precision=double");
+    // Rounding them to float32 would lose what float64 rays are for (coordinates far from the
+    // origin), so only a double structure takes them.
+    return rays + ": float64 rays are traced by structures built with precision=double (" + join(doubles, " or ") +
+           "), and " + structure + " is float32: build one with precision=double, or " + fix;
+}
+
 std::string describe_accels() {
     std::ostringstream out;
     out << "Acceleration structures (spec: NAME[:key=value,...], e.g. "

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "thicket/accel/crossings_double.h"
+#include "thicket/accel/double_rays.h"
 #include "thicket/accel/registry.h"
 #include "thicket/core/error.h"
 #include "thicket/scene/scene.h"
@@ -60,24 +60,49 @@ TEST(CrossingsDouble, MillimetreLayersAreCrossedOnceEachInOrder) {
     EXPECT_LT(build_accel("bvh", scene)->count_hits(rounded), 3u);
 }
 
-TEST(CrossingsDouble, BatchFormsLayOutTheListsAndSkipInvalidRays) {
+// The float64 batch (accel/double_rays.h) from rows: a row without a meaning answers a miss and
+// is counted; rows of 6 take the interval given beside them.
+TEST(CrossingsDouble, BatchFormsLayOutTheListsAndSkipInvalidRows) {
     const Scene scene = quad_stack();
     const auto accel = build_accel("bvh:precision=double", scene);
-    const std::vector<RayD> rays = {{{kO + 0.4, kO + 0.3, kO - 1.0}, 0.0, {0, 0, 1}, kInf},
-                                    {{kO + 0.4, kO + 0.3, kO - 1.0}, 0.0, {0, 0, 1}, kInf},  // marked invalid
-                                    {{kO + 0.4, kO + 0.3, kO + 1.0}, 0.0, {0, 0, -1}, kInf},
-                                    {{kO + 5.0, kO + 0.3, kO - 1.0}, 0.0, {0, 0, 1}, kInf}};  // beside the stack
-    const std::vector<uint8_t> valid = {1, 0, 1, 1};
-    std::vector<uint32_t> counts(rays.size());
-    count_hits_double(*accel, rays, valid, counts, 2);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const std::vector<double> rows = {
+        kO + 0.4, kO + 0.3, kO - 1.0, 0, 0, 1,  0, kInf,  //
+        kO + 0.4, nan,      kO - 1.0, 0, 0, 1,  0, kInf,  // no meaning
+        kO + 0.4, kO + 0.3, kO + 1.0, 0, 0, -1, 0, kInf,  //
+        kO + 5.0, kO + 0.3, kO - 1.0, 0, 0, 1,  0, kInf};  // beside the stack
+    const RayBatchD batch = make_rays(RayRowsD{rows.data(), 4, 8}, 2);
+    EXPECT_EQ(batch.valid, (std::vector<uint8_t>{1, 0, 1, 1}));
+    BatchOptions options;
+    options.threads = 2;
+    std::vector<uint32_t> counts(batch.size());
+    EXPECT_EQ(crossing_counts(*accel, batch, counts, options), 1u);
     EXPECT_EQ(counts, (std::vector<uint32_t>{3, 0, 3, 0}));
-    const HitListsD lists = list_hits_double(*accel, rays, valid, counts, 2);
+    const HitListsD lists = crossing_lists(*accel, batch, counts, options);
     EXPECT_EQ(lists.splits, (std::vector<size_t>{0, 3, 3, 6, 6}));
     ASSERT_EQ(lists.hits.size(), 6u);
     // From above, the top layer comes first.
     EXPECT_EQ(lists.hits[3].prim / 2, 2u);
     EXPECT_EQ(lists.hits[5].prim / 2, 0u);
     for (size_t j = 1; j < 3; ++j) EXPECT_LT(lists.hits[j - 1].t, lists.hits[j].t);
+
+    std::vector<HitD> hits(batch.size());
+    EXPECT_EQ(closest_hits(*accel, batch, hits, options), 1u);
+    EXPECT_EQ(hits[0].t, lists.hits[0].t);
+    EXPECT_FALSE(hits[1].found());
+    EXPECT_FALSE(hits[3].found());
+    std::vector<uint8_t> occluded(batch.size(), 7);
+    EXPECT_EQ(occlusions(*accel, batch, occluded, options), 1u);
+    EXPECT_EQ(occluded, (std::vector<uint8_t>{1, 0, 1, 0}));
+
+    // Rows of 6 with the interval beside them: a tmax short of the second layer crosses one.
+    const std::vector<double> six = {kO + 0.4, kO + 0.3, kO - 1.0, 0, 0, 1};
+    RayRowsD short_rows{six.data(), 1, 6};
+    short_rows.tmax = 1.0005;
+    std::vector<uint32_t> one(1);
+    crossing_counts(*accel, make_rays(short_rows), one);
+    EXPECT_EQ(one[0], 1u);
+    EXPECT_THROW(make_rays(RayRowsD{six.data(), 1, 7}), Error);
 }
 
 TEST(CrossingsDouble, FloatStructuresRefuseNamingTheOption) {
@@ -87,6 +112,19 @@ TEST(CrossingsDouble, FloatStructuresRefuseNamingTheOption) {
         ADD_FAILURE() << "a float structure counted double crossings";
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("precision=double"), std::string::npos) << e.what();
+    }
+    // The batch is refused before anything is traced, with the one message, naming both double
+    // structures from the registry.
+    const std::vector<double> row = {kO + 0.4, kO + 0.3, kO - 1.0, 0, 0, 1, 0, kInf};
+    std::vector<HitD> hits(1);
+    try {
+        closest_hits(*accel, make_rays(RayRowsD{row.data(), 1, 8}), hits);
+        ADD_FAILURE() << "a float structure traced a float64 batch";
+    } catch (const Error& e) {
+        const std::string what = e.what();
+        for (const char* needle :
+             {"float64 rays are traced", "bvh:precision=double", "brute:precision=double", "structure 'bvh:"})
+            EXPECT_NE(what.find(needle), std::string::npos) << what;
     }
 }
 

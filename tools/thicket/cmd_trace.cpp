@@ -8,12 +8,11 @@
 #include <vector>
 
 #include "common.h"
-#include "thicket/accel/crossings_double.h"
+#include "thicket/accel/double_rays.h"
 #include "thicket/accel/ray_rows.h"
 #include "thicket/core/error.h"
 #include "thicket/util/input_file.h"
 #include "thicket/util/npy.h"
-#include "thicket/util/parallel.h"
 #include "thicket/util/progress.h"
 
 namespace thicket::cli {
@@ -53,118 +52,115 @@ std::vector<unsigned char> crossing_records(const Lists& lists, size_t rays) {
     return records;
 }
 
-/// --count and --all: every surface crossing of each row's ray (Accel::all_hits), rows without a
-/// ray counted as 0 crossings. --all writes records (ray, t, prim, u, v), by ray then t.
-void write_crossings(const TraceArgs& args, const std::string& output, const Accel& accel, const RayRows& rows,
-                     const BatchOptions& batch) {
-    const auto start = std::chrono::steady_clock::now();
-    if (args.count) {
-        std::vector<uint32_t> counts(rows.count);
-        crossing_counts(accel, rows, counts, batch);
-        size_t total = 0;
-        for (uint32_t c : counts) total += c;
-        std::printf("count   %zu crossings of %zu rays in %s\n", total, rows.count,
-                    format_duration(ms_since(start) / 1000).c_str());
-        write_npy_u32(output, counts);
-        return;
-    }
-    // The lists' size is known only once traced: count first (4 bytes a ray), and check what the
-    // lists will take (each crossing is held by its chunk, then in the merged list, then as a
-    // 20-byte record; a chunk's vector may hold twice its size while it grows) before listing.
-    {
-        std::vector<uint32_t> counts(rows.count);
-        crossing_counts(accel, rows, counts, batch);
-        uint64_t total = 0;
-        for (uint32_t c : counts) total += c;
-        check_memory(total * (3 * sizeof(Hit) + 20),
-                     "--all: " + std::to_string(total) + " crossings of " + std::to_string(rows.count) + " rays");
-    }
-    const HitLists lists = crossing_lists(accel, rows, batch);
-    const std::vector<unsigned char> records = crossing_records(lists, rows.count);
-    std::printf("all     %zu crossings of %zu rays in %s\n", lists.hits.size(), rows.count,
-                format_duration(ms_since(start) / 1000).c_str());
-    write_npy_records(output, {{"ray", "<u4"}, {"t", "<f4"}, {"prim", "<u4"}, {"u", "<f4"}, {"v", "<f4"}},
-                      lists.hits.size(), records);
-}
+/// The rays of a trace: float32 rows (RayRows, traced in chunks) or a converted float64 batch
+/// (RayBatchD, for precision=double structures). The batch queries (accel/ray_rows.h,
+/// accel/double_rays.h) take either, so one path below writes both; only the widths differ.
+template <class Rays>
+constexpr bool kDouble = std::is_same_v<Rays, RayBatchD>;
 
-/// --count and --all for float64 rays through a precision=double structure: the crossings found
-/// in double (accel/crossings_double.h); --all writes records (ray, t '<f8', prim, u '<f8', v '<f8').
-void write_crossings_double(const TraceArgs& args, const std::string& output, const Accel& accel,
-                            const std::vector<RayD>& rays, const std::vector<uint8_t>& valid) {
+size_t ray_count(const RayRows& rows) { return rows.count; }
+size_t ray_count(const RayBatchD& batch) { return batch.size(); }
+
+/// " in double" after a float64 batch's figures.
+template <class Rays>
+constexpr const char* kPrecisionNote = kDouble<Rays> ? ", in double" : "";
+
+/// --count and --all: every surface crossing of each row's ray (Accel::all_hits, all_hits_double),
+/// rows without a ray counted as 0 crossings. --all writes records (ray, t, prim, u, v), by ray
+/// then t, with t, u and v as wide as the rays.
+template <class Rays>
+void write_crossings(const std::string& output, bool list_all, const Accel& accel, const Rays& rays,
+                     const BatchOptions& batch) {
+    const size_t n = ray_count(rays);
     const auto start = std::chrono::steady_clock::now();
-    std::vector<uint32_t> counts(rays.size());
-    count_hits_double(accel, rays, valid, counts, args.threads);
+    // The lists' size is known only once traced: count first (4 bytes a ray), and check what the
+    // lists will take before listing them.
+    std::vector<uint32_t> counts(n);
+    crossing_counts(accel, rays, counts, batch);
     uint64_t total = 0;
     for (uint32_t c : counts) total += c;
-    if (args.count) {
-        std::printf("count   %s crossings of %zu rays in %s, in double\n", std::to_string(total).c_str(), rays.size(),
-                    format_duration(ms_since(start) / 1000).c_str());
+    if (!list_all) {
+        std::printf("count   %s crossings of %zu rays in %s%s\n", std::to_string(total).c_str(), n,
+                    format_duration(ms_since(start) / 1000).c_str(), kPrecisionNote<Rays>);
         write_npy_u32(output, counts);
         return;
     }
-    // Each crossing is held as HitD while listed, then as a 32-byte record.
-    check_memory(total * (sizeof(HitD) + 32),
-                 "--all: " + std::to_string(total) + " crossings of " + std::to_string(rays.size()) + " rays");
-    const HitListsD lists = list_hits_double(accel, rays, valid, counts, args.threads);
-    const std::vector<unsigned char> records = crossing_records(lists, rays.size());
-    std::printf("all     %zu crossings of %zu rays in %s, in double\n", lists.hits.size(), rays.size(),
-                format_duration(ms_since(start) / 1000).c_str());
-    write_npy_records(output, {{"ray", "<u4"}, {"t", "<f8"}, {"prim", "<u4"}, {"u", "<f8"}, {"v", "<f8"}},
+    // float: each crossing is held by its chunk, then in the merged list (a chunk's vector may
+    // hold twice its size while it grows), then as a 20-byte record; double: as HitD while
+    // listed, then as a 32-byte record.
+    check_memory(total * (kDouble<Rays> ? sizeof(HitD) + 32 : 3 * sizeof(Hit) + 20),
+                 "--all: " + std::to_string(total) + " crossings of " + std::to_string(n) + " rays");
+    const auto lists = [&] {
+        if constexpr (kDouble<Rays>)
+            return crossing_lists(accel, rays, counts, batch);
+        else
+            return crossing_lists(accel, rays, batch);
+    }();
+    const std::vector<unsigned char> records = crossing_records(lists, n);
+    std::printf("all     %zu crossings of %zu rays in %s%s\n", lists.hits.size(), n,
+                format_duration(ms_since(start) / 1000).c_str(), kPrecisionNote<Rays>);
+    const char* wide = kDouble<Rays> ? "<f8" : "<f4";
+    write_npy_records(output, {{"ray", "<u4"}, {"t", wide}, {"prim", "<u4"}, {"u", wide}, {"v", wide}},
                       lists.hits.size(), records);
 }
 
-/// Closest hit, any hit, --count or --all of float64 rays through a precision=double structure:
-/// hits written with t, u and v in float64 (records t '<f8', prim '<u4', u '<f8', v '<f8'),
-/// occlusion flags as uint8, crossings as write_crossings_double() writes them.
-int run_trace_double(const TraceArgs& args, const std::string& output, const Scene& scene, const AccelSpec& spec) {
-    const std::vector<double> values = read_npy_matrix_double(args.rays, 8);
-    const size_t n = values.size() / 8;
-    std::printf("rays    %s: %zu float64 rays, traced in double\n", args.rays.c_str(), n);
-    const std::unique_ptr<Accel> accel = make_accel_verbose(args.accel, spec, scene, args.threads);
-    std::vector<RayD> rays(n);
-    std::vector<uint8_t> valid(n);
-    for (size_t i = 0; i < n; ++i) valid[i] = make_ray_double(&values[8 * i], rays[i]) ? 1 : 0;
+void write_hits(const std::string& output, std::span<const Hit> hits) { write_npy_hits(output, hits); }
+
+/// float64 hits as records t '<f8', prim '<u4', u '<f8', v '<f8' (t +inf on a miss).
+void write_hits(const std::string& output, std::span<const HitD> hits) {
+    std::vector<unsigned char> records(hits.size() * 28);
+    for (size_t i = 0; i < hits.size(); ++i) {
+        unsigned char* r = records.data() + 28 * i;
+        const double t = hits[i].found() ? hits[i].t : std::numeric_limits<double>::infinity();
+        std::memcpy(r, &t, 8);
+        std::memcpy(r + 8, &hits[i].prim, 4);
+        std::memcpy(r + 12, &hits[i].u, 8);
+        std::memcpy(r + 20, &hits[i].v, 8);
+    }
+    write_npy_records(output, {{"t", "<f8"}, {"prim", "<u4"}, {"u", "<f8"}, {"v", "<f8"}}, hits.size(), records);
+}
+
+/// Traces `rays` as `args` asks (closest hit, any hit, --count or --all) and writes the answers.
+/// Rows without a meaning are answered as misses (as the Python module does).
+template <class Rays>
+int trace_rays(const TraceArgs& args, const std::string& output, const Accel& accel, const Rays& rays) {
+    const size_t n = ray_count(rays);
+    BatchOptions batch;
+    batch.threads = args.threads;
     if (args.count || args.all) {
         if (n > UINT32_MAX) throw Error(args.rays + ": more than 2^32 - 1 rays for --count or --all");
-        write_crossings_double(args, output, *accel, rays, valid);
+        write_crossings(output, args.all, accel, rays, batch);
         std::printf("wrote   %s\n", args.output.c_str());
         return 0;
     }
-    const auto start = std::chrono::steady_clock::now();
-    size_t found = 0, invalid = 0;
-    std::vector<HitD> hits(args.any_hit ? 0 : n);
+    using HitT = std::conditional_t<kDouble<Rays>, HitD, Hit>;
+    std::vector<HitT> hits(args.any_hit ? 0 : n);
     std::vector<uint8_t> occluded(args.any_hit ? n : 0);
-    parallel_for(n, kBatchGrain, args.threads, [&](size_t begin, size_t end) {
-        for (size_t i = begin; i < end; ++i) {
-            if (args.any_hit)
-                occluded[i] = valid[i] && accel->occluded_double(rays[i]) ? 1 : 0;
-            else
-                hits[i] = valid[i] ? accel->intersect_double(rays[i]) : HitD{};
-        }
-    });
+    Progress progress("trace", n, "rays");
+    batch.coherent = args.coherent;
+    batch.progress = [&](size_t done) { progress.advance(done); };
+    const auto start = std::chrono::steady_clock::now();
+    const size_t invalid =
+        args.any_hit ? occlusions(accel, rays, occluded, batch) : closest_hits(accel, rays, std::span(hits), batch);
     const double seconds = ms_since(start) / 1000.0;
-    for (size_t i = 0; i < n; ++i) {
-        invalid += !valid[i];
-        found += args.any_hit ? occluded[i] : hits[i].found();
-    }
-    std::printf("trace   %s %s rays in %s: %zu %s, %zu not\n", args.any_hit ? "any-hit" : "closest-hit",
-                format_si(double(n)).c_str(), format_duration(seconds).c_str(), found,
-                args.any_hit ? "occluded" : "hit", n - found);
-    if (invalid) std::printf("note    %zu rays were invalid and count as misses\n", invalid);
-    if (args.any_hit) {
+    progress.finish();
+    size_t found = 0;
+    if (args.any_hit)
+        for (uint8_t o : occluded) found += o;
+    else
+        for (const HitT& h : hits) found += h.found();
+
+    std::printf("trace   %s %s rays in %s, %s rays/s%s: %zu %s, %zu not\n",
+                args.any_hit ? "any-hit" : "closest-hit", format_si(double(n)).c_str(),
+                format_duration(seconds).c_str(), format_si(seconds > 0 ? double(n) / seconds : 0.0).c_str(),
+                kPrecisionNote<Rays>, found, args.any_hit ? "occluded" : "hit", n - found);
+    if (invalid)
+        std::printf("note    %zu rays were invalid (NaN, infinite origin or direction, zero direction or "
+                    "tmin > tmax) and count as misses\n", invalid);
+    if (args.any_hit)
         write_npy_u8(output, occluded);
-    } else {
-        std::vector<unsigned char> records(n * 28);
-        for (size_t i = 0; i < n; ++i) {
-            unsigned char* r = records.data() + 28 * i;
-            const double t = hits[i].found() ? hits[i].t : std::numeric_limits<double>::infinity();
-            std::memcpy(r, &t, 8);
-            std::memcpy(r + 8, &hits[i].prim, 4);
-            std::memcpy(r + 12, &hits[i].u, 8);
-            std::memcpy(r + 20, &hits[i].v, 8);
-        }
-        write_npy_records(output, {{"t", "<f8"}, {"prim", "<u4"}, {"u", "<f8"}, {"v", "<f8"}}, n, records);
-    }
+    else
+        write_hits(output, hits);
     std::printf("wrote   %s\n", args.output.c_str());
     return 0;
 }
@@ -177,67 +173,26 @@ int run_trace(const TraceArgs& args) {
                     (args.any_hit ? "--any-hit" : args.count ? "--count" : "--all") + " asks another query");
     const std::optional<AccelSpec> spec = validate_accel_choice(args.accel);
     const std::string output = prepare_output(args.output, args.force, {args.scene, args.rays, args.accel.load});
-    const bool double_spec = spec && spec->options.count("precision") && spec->get("precision") == "double";
-    if (read_npy_header(args.rays).descr == "<f8") {
-        // Rounding them to float32 would lose what float64 rays are for (coordinates far from the
-        // origin), so only a double structure takes them.
-        if (!double_spec)
-            throw Error(args.rays + ": float64 rays are traced by structures built with precision=double (--accel "
-                        "bvh:precision=double or brute:precision=double), and " +
-                        (spec ? "'" + args.accel.spec + "'" : std::string("a saved structure (--load)")) +
-                        " is float32: build one with precision=double, or save the rays as float32");
+    NpyFile ray_file(args.rays);  // its header read once, here; the data below
+    if (ray_file.holds_float64()) {
+        if (!spec || !takes_double_rays(*spec))
+            throw Error(float64_rays_refusal(
+                args.rays, spec ? "'" + args.accel.spec + "'" : std::string("a saved structure (--load)"),
+                "save the rays as float32"));
         if (args.coherent)
             throw Error("--coherent does not apply here: " + args.rays +
                         " holds float64 rays, which no structure traces in packets");
-        return run_trace_double(args, output, load_scene_verbose(args.scene), *spec);
+        const std::vector<double> values = ray_file.read_matrix_double(8);
+        const RayBatchD rays = make_rays(RayRowsD{values.data(), values.size() / 8, 8}, args.threads);
+        std::printf("rays    %s: %zu float64 rays, traced in double\n", args.rays.c_str(), rays.size());
+        const Scene scene = load_scene_verbose(args.scene);
+        return trace_rays(args, output, *make_accel_verbose(args.accel, spec, scene, args.threads), rays);
     }
-    const NpyFloatArray rays = read_npy_matrix(args.rays, 8);
-    const size_t n = rays.shape[0];
-    std::printf("rays    %s: %zu rays\n", args.rays.c_str(), n);
+    const NpyFloatArray rays = ray_file.read_matrix(8);
+    std::printf("rays    %s: %zu rays\n", args.rays.c_str(), rays.shape[0]);
     const Scene scene = load_scene_verbose(args.scene);
-    const std::unique_ptr<Accel> accel = make_accel_verbose(args.accel, spec, scene, args.threads);
-
-    // Rows without a meaning are answered as misses (accel/ray_rows.h, as the Python module does).
-    const RayRows rows{rays.values.data(), n, 8};
-    if ((args.count || args.all) && n > UINT32_MAX) throw Error(args.rays + ": more than 2^32 - 1 rays for --count or --all");
-    if (args.count || args.all) {
-        BatchOptions batch;
-        batch.threads = args.threads;
-        write_crossings(args, output, *accel, rows, batch);
-        std::printf("wrote   %s\n", args.output.c_str());
-        return 0;
-    }
-
-    std::vector<Hit> hits(args.any_hit ? 0 : n);
-    std::vector<uint8_t> occluded(args.any_hit ? n : 0);
-    Progress progress("trace", n, "rays");
-    BatchOptions batch;
-    batch.threads = args.threads;
-    batch.coherent = args.coherent;
-    batch.progress = [&](size_t done) { progress.advance(done); };
-    const auto start = std::chrono::steady_clock::now();
-    const size_t invalid = args.any_hit ? occlusions(*accel, rows, occluded, batch) : closest_hits(*accel, rows, hits, batch);
-    const double seconds = ms_since(start) / 1000.0;
-    progress.finish();
-    size_t found = 0;
-    if (args.any_hit)
-        for (uint8_t o : occluded) found += o;
-    else
-        for (const Hit& h : hits) found += h.found();
-
-    std::printf("trace   %s %s rays in %s, %s rays/s: %zu %s, %zu not\n", args.any_hit ? "any-hit" : "closest-hit",
-                format_si(double(n)).c_str(), format_duration(seconds).c_str(),
-                format_si(seconds > 0 ? double(n) / seconds : 0.0).c_str(), found,
-                args.any_hit ? "occluded" : "hit", n - found);
-    if (invalid)
-        std::printf("note    %zu rays were invalid (NaN, infinite origin or direction, zero direction or "
-                    "tmin > tmax) and count as misses\n", invalid);
-    if (args.any_hit)
-        write_npy_u8(output, occluded);
-    else
-        write_npy_hits(output, hits);
-    std::printf("wrote   %s\n", args.output.c_str());
-    return 0;
+    return trace_rays(args, output, *make_accel_verbose(args.accel, spec, scene, args.threads),
+                      RayRows{rays.values.data(), rays.shape[0], 8});
 }
 
 }  // namespace

@@ -8,12 +8,10 @@
 #include <cstdint>
 #include <algorithm>
 #include <limits>
-#include <span>
 #include <vector>
 
 #include "thicket/accel/accel.h"
 #include "thicket/core/ray_double.h"
-#include "thicket/util/parallel.h"
 
 namespace thicket {
 
@@ -47,40 +45,10 @@ inline uint32_t count_hits_double(const Accel& accel, const RayD& ray) {
     return uint32_t(hits.size());
 }
 
-/// counts[i] = count_hits_double(rays[i]), 0 where valid[i] is 0, on `threads` threads (0: all
-/// cores). The spans have one size.
-inline void count_hits_double(const Accel& accel, std::span<const RayD> rays, std::span<const uint8_t> valid,
-                              std::span<uint32_t> counts, unsigned threads) {
-    parallel_for(rays.size(), kBatchGrain, threads, [&](size_t begin, size_t end) {
-        for (size_t i = begin; i < end; ++i) counts[i] = valid[i] ? count_hits_double(accel, rays[i]) : 0;
-    });
-}
-
 /// Every crossing of each ray, HitLists' layout: rays[i]'s are hits[splits[i] .. splits[i+1]).
 struct HitListsD {
     std::vector<size_t> splits;
     std::vector<HitD> hits;
 };
-
-/// The crossings of every ray, given `counts` from count_hits_double() over the same rays: the
-/// caller learns the lists' size there and checks it against memory before they are made. Each
-/// ray is traced again (the same calls, so the same crossings); on `threads` threads.
-inline HitListsD list_hits_double(const Accel& accel, std::span<const RayD> rays, std::span<const uint8_t> valid,
-                                  std::span<const uint32_t> counts, unsigned threads) {
-    HitListsD out;
-    out.splits.assign(rays.size() + 1, 0);
-    for (size_t i = 0; i < rays.size(); ++i) out.splits[i + 1] = out.splits[i] + counts[i];
-    out.hits.resize(out.splits.back());
-    parallel_for(rays.size(), kBatchGrain, threads, [&](size_t begin, size_t end) {
-        std::vector<HitD> mine;
-        for (size_t i = begin; i < end; ++i) {
-            if (!valid[i]) continue;
-            mine.clear();
-            all_hits_double(accel, rays[i], mine);
-            std::copy_n(mine.begin(), std::min<size_t>(mine.size(), counts[i]), out.hits.begin() + out.splits[i]);
-        }
-    });
-    return out;
-}
 
 }  // namespace thicket

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -17,15 +18,18 @@
 
 namespace thicket {
 
-/// `count` rows of `width` floats at `data`: width 8 is ox oy oz dx dy dz tmin tmax; width 6 is
-/// ox oy oz dx dy dz, every row with the interval [tmin, tmax] given here.
-struct RayRows {
-    const float* data = nullptr;
+/// `count` rows of `width` values at `data`: width 8 is ox oy oz dx dy dz tmin tmax; width 6 is
+/// ox oy oz dx dy dz, every row with the interval [tmin, tmax] given here. float rows are RayRows;
+/// double rows (RayRowsD, accel/double_rays.h) are float64 rays for the precision=double structures.
+template <class Scalar>
+struct RayRowsOf {
+    const Scalar* data = nullptr;
     size_t count = 0;
     size_t width = 8;
-    float tmin = 0.0f;
-    float tmax = kInfinity;
+    Scalar tmin = 0;
+    Scalar tmax = std::numeric_limits<Scalar>::infinity();
 };
+using RayRows = RayRowsOf<float>;
 
 /// Throws Error unless `rows` has width 6 or 8 (the only layouts fill_chunk reads).
 void check_ray_rows(const RayRows& rows);

@@ -181,6 +181,14 @@ inline constexpr const char* kDefaultSpec = "bvh8";
 /// default of `thicket closest`): its 8-wide point traversal is the fastest.
 inline constexpr const char* kClosestPointSpec = "bvh8";
 
+/// Whether the structure `spec` builds traces float64 rays in double (precision=double): what
+/// both front ends ask before taking float64 rays (a built one answers Accel::double_precision()).
+bool takes_double_rays(const AccelSpec& spec);
+/// The one refusal of float64 rays: `rays` names them (a file, an argument), `structure` the
+/// float32 structure ("'bvh8'"), `fix` how the caller makes float32 rays. Lists every registered
+/// structure with a precision option, so the next one is named without an edit.
+std::string float64_rays_refusal(const std::string& rays, const std::string& structure, const std::string& fix);
+
 /// Parses `spec` and builds the structure over `scene` on up to `threads` threads (0: every
 /// core), filling stats().build_ms. The result does not depend on `threads`.
 std::unique_ptr<Accel> build_accel(std::string_view spec, const Scene& scene, unsigned threads = 0);
