@@ -18,34 +18,19 @@ namespace bih_detail {
 /// Closest hit (AnyHit = false: updates `hit`) or any hit (AnyHit = true: returns at the first
 /// primitive hit within [tmin, tmax]).
 template <bool AnyHit, class Prims, class C>
-struct Query {
-    const BihData& bih;
-    const Prims& prims;
-    const Ray& ray;
+struct Query : QueryState<AnyHit, BihData, Prims, C> {
+    using State = QueryState<AnyHit, BihData, Prims, C>;
+    using State::data, State::ray, State::counters, State::far, State::test_prims;
     const RayBoxQuery q;
-    Hit& hit;
-    C& counters;
 
-    Query(const BihData& b, const Prims& p, const Ray& r, Hit& h, C& c) : bih(b), prims(p), ray(r), q(r), hit(h), counters(c) {}
-
-    float far() const { return AnyHit ? ray.tmax : hit.t; }
+    Query(const BihData& b, const Prims& p, const Ray& r, Hit& h, C& c) : State(b, p, r, h, c), q(r) {}
 
     /// Tests a leaf's primitives; true ends the query (any-hit found something).
-    bool leaf(const BihNode& node) {
-        for (uint32_t i = node.index(), end = node.index() + node.count(); i < end; ++i) {
-            counters.prim();
-            if constexpr (AnyHit) {
-                if (prims.occludes(bih.prim_indices[i], ray)) return true;
-            } else {
-                prims.intersect(bih.prim_indices[i], ray, hit);
-            }
-        }
-        return false;
-    }
+    bool leaf(const BihNode& node) { return test_prims(data.prim_indices, node.index(), node.index() + node.count()); }
 
     bool run() {
-        if (bih.nodes.empty()) return false;
-        const SlabInterval root = ray_box_interval(q, bih.bounds, ray.tmin, far());
+        if (data.nodes.empty()) return false;
+        const SlabInterval root = ray_box_interval(q, data.bounds, ray.tmin, far());
         if (root.empty()) return false;
         struct Entry {
             uint32_t node;
@@ -57,7 +42,7 @@ struct Query {
         float tnear = root.t0, tfar = root.t1;
         while (true) {
             counters.node();
-            const BihNode& node = bih.nodes[n];
+            const BihNode& node = data.nodes[n];
             if (node.is_leaf()) {
                 if (leaf(node)) return true;
             } else {

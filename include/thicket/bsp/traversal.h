@@ -134,15 +134,9 @@ namespace bsp_detail {
 
 /// query() in the shape closest_hit()/any_hit() take.
 template <bool AnyHit, class Prims, class C>
-struct Query {
-    const BspData& bsp;
-    const Prims& prims;
-    const Ray& ray;
-    Hit& hit;
-    C& counters;
-    Query(const BspData& b, const Prims& p, const Ray& r, Hit& h, C& c)
-        : bsp(b), prims(p), ray(r), hit(h), counters(c) {}
-    bool run() const { return query<AnyHit>(bsp, prims, ray, hit, counters); }
+struct Query : QueryState<AnyHit, BspData, Prims, C> {
+    using QueryState<AnyHit, BspData, Prims, C>::QueryState;
+    bool run() const { return query<AnyHit>(this->data, this->prims, this->ray, this->hit, this->counters); }
 };
 
 }  // namespace bsp_detail

@@ -21,47 +21,27 @@ namespace bvh_detail {
 /// Closest hit (AnyHit = false: updates `hit`, returns whether anything was hit) or any hit
 /// (AnyHit = true: returns at the first primitive hit within [tmin, tmax]).
 template <bool AnyHit, class Prims, class C>
-struct Query {
-    const BvhData& bvh;
-    const Prims& prims;
-    const Ray& ray;
+struct Query : QueryState<AnyHit, BvhData, Prims, C, /*Records=*/true> {
+    using State = QueryState<AnyHit, BvhData, Prims, C, true>;
+    using State::data, State::ray, State::counters, State::far, State::test_prims;
     const RayBoxQuery box;
-    Hit& hit;
-    C& counters;
 
-    Query(const BvhData& b, const Prims& p, const Ray& r, Hit& h, C& c)
-        : bvh(b), prims(p), ray(r), box(r), hit(h), counters(c) {}
-
-    float far() const { return AnyHit ? ray.tmax : hit.t; }
+    Query(const BvhData& b, const Prims& p, const Ray& r, Hit& h, C& c) : State(b, p, r, h, c), box(r) {}
 
     float enter(uint32_t n) {
         counters.node();
-        const float t = ray_box_entry(box, bvh.nodes[n].aabbMin, bvh.nodes[n].aabbMax, ray.tmin, far());
+        const float t = ray_box_entry(box, data.nodes[n].aabbMin, data.nodes[n].aabbMax, ray.tmin, far());
         if constexpr (RecordsSteps<C>) counters.record_node(n, t);
         return t;
     }
 
     /// Tests a leaf's primitives; true ends the query (any-hit found something).
-    bool leaf(const BvhNode& node) {
-        for (uint32_t i = node.leftFirst, end = node.leftFirst + node.count; i < end; ++i) {
-            counters.prim();
-            if constexpr (AnyHit) {
-                if (prims.occludes(bvh.prim_indices[i], ray)) {
-                    if constexpr (RecordsSteps<C>) counters.record_prim(bvh.prim_indices[i], far());  // the blocker too
-                    return true;
-                }
-            } else {
-                prims.intersect(bvh.prim_indices[i], ray, hit);
-            }
-            if constexpr (RecordsSteps<C>) counters.record_prim(bvh.prim_indices[i], far());
-        }
-        return false;
-    }
+    bool leaf(const BvhNode& node) { return test_prims(data.prim_indices, node.leftFirst, node.leftFirst + node.count); }
 
     /// The slide's traversal: test the box, then the primitives or both children in order.
     bool recursive(uint32_t n) {
         if (enter(n) == kInfinity) return false;
-        const BvhNode& node = bvh.nodes[n];
+        const BvhNode& node = data.nodes[n];
         if (node.is_leaf()) return leaf(node);
         return recursive(node.leftFirst) || recursive(node.leftFirst + 1);
     }
@@ -74,7 +54,7 @@ struct Query {
         while (sp > 0) {
             const uint32_t n = stack[--sp];
             if (enter(n) == kInfinity) continue;
-            const BvhNode& node = bvh.nodes[n];
+            const BvhNode& node = data.nodes[n];
             if (node.is_leaf()) {
                 if (leaf(node)) return true;
             } else {
@@ -90,9 +70,9 @@ struct Query {
         if constexpr (RecordsSteps<C>) counters.record_skip(n, t_enter);
     }
 
-    bool is_leaf(uint32_t n) const { return bvh.nodes[n].is_leaf(); }
-    uint32_t first_child(uint32_t n) const { return bvh.nodes[n].leftFirst; }
-    bool leaf(uint32_t n) { return leaf(bvh.nodes[n]); }
+    bool is_leaf(uint32_t n) const { return data.nodes[n].is_leaf(); }
+    uint32_t first_child(uint32_t n) const { return data.nodes[n].leftFirst; }
+    bool leaf(uint32_t n) { return leaf(data.nodes[n]); }
 
     /// Ordered traversal (core/ordered_traversal.h) with the near child picked by entry
     /// distance, by the ray's sign along the split axis, or along the children's centroid axis.
@@ -102,16 +82,16 @@ struct Query {
             if constexpr (Order == BvhTraversal::OrderedDistance) {
                 return t_second < t_first;
             } else if constexpr (Order == BvhTraversal::OrderedAxis) {
-                return box.neg[ChildOrder::split_axis(bvh.child_order[n])] != 0;
+                return box.neg[ChildOrder::split_axis(data.child_order[n])] != 0;
             } else {
-                const uint8_t order = bvh.child_order[n];
+                const uint8_t order = data.child_order[n];
                 return (box.neg[ChildOrder::centroid_axis(order)] != 0) != ChildOrder::left_is_higher(order);
             }
         });
     }
 
     bool run(BvhTraversal traversal) {
-        if (bvh.nodes_used == 0) return false;
+        if (data.nodes_used == 0) return false;
         switch (traversal) {
         case BvhTraversal::Recursive: return recursive(0);
         case BvhTraversal::Stack: return stack();

@@ -72,20 +72,14 @@ struct Step {
 /// Closest hit (AnyHit = false: updates `hit`) or any hit (AnyHit = true: returns true at the
 /// first primitive hit within [tmin, tmax]).
 template <bool AnyHit, class Prims, class C>
-struct KdQuery {
-    const KdTreeData& tree;
-    const Prims& prims;
-    const Ray& ray;
-    Hit& hit;
-    C& counters;
+struct KdQuery : QueryState<AnyHit, KdTreeData, Prims, C> {
+    using State = QueryState<AnyHit, KdTreeData, Prims, C>;
+    using State::data, State::ray, State::hit, State::counters, State::far, State::test_prims;
     Mailbox mailbox;
     Vec3 inv;
 
     KdQuery(const KdTreeData& t, const Prims& p, const Ray& r, Hit& h, C& c)
-        : tree(t), prims(p), ray(r), hit(h), counters(c), mailbox(p.size()),
-          inv(1.0f / r.dir.x, 1.0f / r.dir.y, 1.0f / r.dir.z) {}
-
-    float far() const { return AnyHit ? ray.tmax : hit.t; }
+        : State(t, p, r, h, c), mailbox(p.size()), inv(1.0f / r.dir.x, 1.0f / r.dir.y, 1.0f / r.dir.z) {}
 
     Step step(uint32_t n, const KdNode& node) const {
         const int a = node.axis();
@@ -103,17 +97,8 @@ struct KdQuery {
 
     /// Tests a leaf's primitives (each once per query); true ends the query (any-hit found one).
     bool leaf(const KdNode& node) {
-        for (uint32_t i = node.first(), end = node.first() + node.count(); i < end; ++i) {
-            const uint32_t p = tree.prim_indices[i];
-            if (!mailbox.first_visit(p)) continue;
-            counters.prim();
-            if constexpr (AnyHit) {
-                if (prims.occludes(p, ray)) return true;
-            } else {
-                prims.intersect(p, ray, hit);
-            }
-        }
-        return false;
+        return test_prims(data.prim_indices, node.first(), node.first() + node.count(),
+                          [&](uint32_t p) { return mailbox.first_visit(p); });
     }
 
     /// Near/far stack traversal of the subtree at `n` over [t0, t1] (widened intervals). With
@@ -132,7 +117,7 @@ struct KdQuery {
             KdNode node;
             while (true) {
                 counters.node();
-                node = tree.nodes[n];
+                node = data.nodes[n];
                 if (node.is_leaf()) break;
                 const Step s = step(n, node);
                 if (s.kind == Step::Parallel) {
@@ -203,7 +188,7 @@ struct KdQuery {
             KdNode node;
             while (true) {
                 counters.node();
-                node = tree.nodes[n];
+                node = data.nodes[n];
                 if (node.is_leaf()) break;
                 const Step s = step(n, node);
                 if (s.kind == Step::Parallel) {
@@ -251,7 +236,7 @@ struct KdQuery {
 
     bool run(KdTraversal traversal) {
         float t0, t1;
-        if (tree.nodes.empty() || !root_interval(ray, tree.bounds, t0, t1)) return false;
+        if (data.nodes.empty() || !root_interval(ray, data.bounds, t0, t1)) return false;
         return traversal == KdTraversal::Restart ? restart(t0, t1) : walk<false>(0, t0, t1);
     }
 };

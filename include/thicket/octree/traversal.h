@@ -46,23 +46,18 @@ struct Planes {
 /// Closest hit (AnyHit = false: updates `hit`) or any hit (AnyHit = true: returns at the first
 /// primitive hit within [tmin, tmax]).
 template <bool AnyHit, class Prims, class C>
-struct Query {
-    const OctreeData& tree;
-    const Prims& prims;
-    const Ray& ray;
+struct Query : QueryState<AnyHit, OctreeData, Prims, C> {
+    using State = QueryState<AnyHit, OctreeData, Prims, C>;
+    using State::data, State::prims, State::ray, State::hit, State::counters, State::far;
     const RayBoxQuery q;
-    Hit& hit;
-    C& counters;
     Mailbox mailbox;
     int flip = 0;  ///< bit a set when the ray runs towards -a: travel-order child m is child m ^ flip
     bool occluded = false;  ///< any-hit: a primitive was hit
 
     Query(const OctreeData& t, const Prims& p, const Ray& r, Hit& h, C& c)
-        : tree(t), prims(p), ray(r), q(r), hit(h), counters(c), mailbox(p.size()) {
+        : State(t, p, r, h, c), q(r), mailbox(p.size()) {
         for (int a = 0; a < 3; ++a) flip |= q.neg[a] << a;
     }
-
-    float far() const { return AnyHit ? ray.tmax : hit.t; }
 
     /// Distance to the plane the ray meets first (entering) or last (leaving) on one axis of box.
     float enter_distance(const Aabb& box, int a) const {
@@ -99,17 +94,10 @@ struct Query {
     /// something, or the closest hit so far lies within this leaf's exit distance.
     bool leaf(const OctreeNode& node, float exit) {
         // Tests may count leaves with a counters type that has leaf(node index).
-        if constexpr (requires { counters.leaf(uint32_t{}); }) counters.leaf(uint32_t(&node - tree.nodes.data()));
-        for (uint32_t i = node.index, end = node.index + node.count; i < end; ++i) {
-            const uint32_t prim = tree.refs[i];
-            if (!mailbox.first_visit(prim)) continue;
-            counters.prim();
-            if constexpr (AnyHit) {
-                if (prims.occludes(prim, ray)) return occluded = true;
-            } else {
-                prims.intersect(prim, ray, hit);
-            }
-        }
+        if constexpr (requires { counters.leaf(uint32_t{}); }) counters.leaf(uint32_t(&node - data.nodes.data()));
+        if (this->test_prims(data.refs, node.index, node.index + node.count,
+                             [&](uint32_t p) { return mailbox.first_visit(p); }))
+            return occluded = true;
         return !AnyHit && hit.found() && hit.t <= exit;
     }
 
@@ -121,7 +109,7 @@ struct Query {
         if (widen_near(enter) > far()) return true;
         if (widen_far(exit) < ray.tmin) return false;
         counters.node();
-        const OctreeNode& node = tree.nodes[n];
+        const OctreeNode& node = data.nodes[n];
         if (node.is_leaf()) return leaf(node, exit);
         float tm[3];
         for (int a = 0; a < 3; ++a) tm[a] = mid_distance(box, a);
@@ -151,9 +139,9 @@ struct Query {
     /// mid-plane: the half the ray goes into); returns its node index and sets `box`.
     uint32_t locate(float t, Aabb& box) {
         uint32_t n = 0;
-        box = tree.root;
+        box = data.root;
         counters.node();
-        while (!tree.nodes[n].is_leaf()) {
+        while (!data.nodes[n].is_leaf()) {
             int c = 0;
             for (int a = 0; a < 3; ++a) {
                 const float mid = octree_mid(box.min[a], box.max[a]);
@@ -162,7 +150,7 @@ struct Query {
                 c |= int(upper) << a;
                 (upper ? box.min : box.max)[a] = mid;
             }
-            n = tree.nodes[n].index + uint32_t(c);
+            n = data.nodes[n].index + uint32_t(c);
             counters.node();
         }
         return n;
@@ -176,7 +164,7 @@ struct Query {
             Aabb box;
             const uint32_t n = locate(t, box);
             const float exit = planes(box).exit();
-            if (leaf(tree.nodes[n], exit)) return true;
+            if (leaf(data.nodes[n], exit)) return true;
             if (!(exit < root_exit)) return false;  // left the root (NaN: a broken ray, stop)
             // A cell of zero length along the ray (planes whose distances round to the same
             // float) gives no progress: step to the next float instead.
@@ -187,13 +175,13 @@ struct Query {
 
     /// Runs the query; returns whether any-hit found something.
     bool run(OctreeTraversal traversal) {
-        if (tree.nodes.empty()) return false;
-        const Planes root = planes(tree.root);
+        if (data.nodes.empty()) return false;
+        const Planes root = planes(data.root);
         if (!reaches_root(root)) return false;
         if (traversal == OctreeTraversal::Restart)
             restart(root);
         else
-            parametric(0, tree.root, root);
+            parametric(0, data.root, root);
         return occluded;
     }
 };
