@@ -13,13 +13,16 @@ set(layer_geometry core geometry)
 set(layer_prims core util geometry prims)
 set(layer_scene core util geometry prims scene)
 set(layer_accel core util geometry prims scene accel)
+# The batch queries of the front ends: rows of floats or doubles to answers, point queries,
+# crossings, hit columns. Above the interface they call, below nothing that needs them.
+set(layer_query core util geometry prims scene accel query)
 set(structure_layers core util geometry prims accel)   # plus the structure's own folder
 # Instancing sits above the structures: its top level is a bvh8 tree walked by bvh8's kernels,
 # whose leaves call a bvh8 bottom's kernel directly (no virtual call per instance).
-set(layer_instances core util geometry prims scene accel bvh8 instances)
-set(layer_render core util geometry prims scene accel instances render)
-set(layer_bench core util geometry prims scene accel instances render bench)
-set(named_layers core util geometry prims scene accel instances render bench)
+set(layer_instances core util geometry prims scene accel query bvh8 instances)
+set(layer_render core util geometry prims scene accel query instances render)
+set(layer_bench core util geometry prims scene accel query instances render bench)
+set(named_layers core util geometry prims scene accel query instances render bench)
 
 # A structure built from another declares it here (uses_<folder>): a wide BVH collapses the
 # binary one. Any other structure-to-structure include is a violation.

@@ -5,13 +5,13 @@
 ///   auto accel = thicket::build_accel("bvh:builder=sweep-sah", scene);
 ///   thicket::Hit hit = accel->intersect({{0, 0.1f, 1}, 0.0f, {0, 0, -1}, thicket::kInfinity});
 ///
-/// Rows of floats in, answers out (accel/ray_rows.h); closest points, distances, occupancy
-/// (accel/point_queries.h). The structures by name (one folder each) for users who build them
+/// Rows of floats in, answers out (query/ray_rows.h); closest points, distances, occupancy
+/// (query/point_queries.h). The structures by name (one folder each) for users who build them
 /// directly, and the shape kernels a Scene can hold next to triangles (prims/shapes.h).
 #include "thicket/accel/accel.h"
 #include "thicket/instances/instances.h"
-#include "thicket/accel/point_queries.h"
-#include "thicket/accel/ray_rows.h"
+#include "thicket/query/point_queries.h"
+#include "thicket/query/ray_rows.h"
 #include "thicket/accel/registry.h"
 #include "thicket/bih/bih.h"
 #include "thicket/brute/brute_force.h"

@@ -1,6 +1,6 @@
 #pragma once
 // numpy arrays in and out of the module: shape and dtype checks that name what was received, the
-// rows handed to the library's ray conversion (accel/ray_rows.h), and output arrays that keep the input's leading shape.
+// rows handed to the library's ray conversion (query/ray_rows.h), and output arrays that keep the input's leading shape.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "thicket/accel/accel.h"
-#include "thicket/accel/ray_rows.h"
+#include "thicket/query/ray_rows.h"
 #include "thicket/core/ray.h"
 
 namespace thicket::python {
@@ -50,10 +50,17 @@ RowsOf<T> typed_rows(const py::handle& obj, const char* what, std::initializer_l
 /// with .astype(numpy.float32) and, for rays, which structures take float64 ones.
 Rows float32_rows(const py::handle& obj, const char* what, std::initializer_list<size_t> widths);
 
-/// The rows as the library reads them (accel/ray_rows.h): rows of 6 take [tnear, tfar] as every
+/// The rows as the library reads them (query/ray_rows.h): rows of 6 take [tnear, tfar] as every
 /// ray's interval, rows of 8 carry their own.
 inline RayRows ray_rows(const Rows& rows, float tnear = 0.0f, float tfar = kInfinity) {
     return RayRows{rows.data(), rows.count, rows.width, tnear, tfar};
+}
+
+/// The library's batch options for a query on `threads` threads (0: every core), the rest default.
+inline BatchOptions on_threads(unsigned threads) {
+    BatchOptions options;
+    options.threads = threads;
+    return options;
 }
 
 /// MemoryError "<query>: answering an array of shape (...) needs ..." unless `bytes_per_row`

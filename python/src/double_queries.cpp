@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "thicket/accel/double_rays.h"
+#include "thicket/query/double_rays.h"
 #include "thicket/accel/registry.h"
 #include "thicket/core/error.h"
 #include "thicket/util/parallel.h"
@@ -14,7 +14,7 @@ namespace thicket::python {
 
 namespace {
 
-/// A float64 array's rows and their rays (accel/double_rays.h: a row without a meaning is
+/// A float64 array's rows and their rays (query/double_rays.h: a row without a meaning is
 /// answered as a miss, as float rows are).
 struct DoubleRays {
     RowsD rows;
@@ -37,12 +37,6 @@ DoubleRays double_rays(const AccelHandle& h, const py::handle& obj, const char* 
     if (tfar) in.tmax = double(*tfar);
     out.batch = make_rays(in, threads);
     return out;
-}
-
-BatchOptions on_threads(unsigned threads) {
-    BatchOptions options;
-    options.threads = threads;
-    return options;
 }
 
 }  // namespace

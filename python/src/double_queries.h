@@ -22,7 +22,7 @@ py::array test_occlusions_double(const AccelHandle& h, const py::handle& rays, s
                                  std::optional<float> tfar, unsigned threads);
 
 /// count_intersections for float64 rays: int32 of the rays' leading shape, the crossings found in
-/// double (accel/crossings_double.h: the closest hit asked again from just past each one).
+/// double (query/crossings_double.h: the closest hit asked again from just past each one).
 py::array count_intersections_double(const AccelHandle& h, const py::handle& rays, unsigned threads);
 
 /// list_intersections for float64 rays: the same dict, with t_hit and primitive_uvs float64.

@@ -10,9 +10,9 @@
 #include <span>
 #include <vector>
 
-#include "thicket/accel/hit_columns.h"
-#include "thicket/accel/point_queries.h"
-#include "thicket/accel/ray_rows.h"
+#include "thicket/query/hit_columns.h"
+#include "thicket/query/point_queries.h"
+#include "thicket/query/ray_rows.h"
 #include "thicket/core/error.h"
 #include "thicket/util/parallel.h"
 
@@ -164,9 +164,7 @@ py::dict list_intersections(const AccelHandle& h, const py::handle& rays_obj, un
     HitLists lists;
     {
         py::gil_scoped_release nogil;
-        BatchOptions options;
-        options.threads = threads;
-        lists = crossing_lists(*h.accel, ray_rows(rows), options);
+        lists = crossing_lists(*h.accel, ray_rows(rows), on_threads(threads));
     }
     const size_t n = lists.hits.size();
     if (n > size_t(UINT32_MAX)) throw Error("list_intersections: more than 2^32 - 1 crossings; cast fewer rays at once");
@@ -217,9 +215,7 @@ py::array compute_distance(AccelHandle& h, const py::handle& points_obj, unsigne
     auto result = new_array<float>(rows.lead);
     {
         py::gil_scoped_release nogil;
-        BatchOptions options;
-        options.threads = threads;
-        h.points->distances(points_of(rows), {result.mutable_data(), rows.count}, options);
+        h.points->distances(points_of(rows), {result.mutable_data(), rows.count}, on_threads(threads));
     }
     return result;
 }
@@ -250,16 +246,13 @@ py::array compute_signed_distance(AccelHandle& h, const py::handle& points_obj, 
     auto result = new_array<float>(rows.lead);
     {
         py::gil_scoped_release nogil;
-        BatchOptions options;
-        options.threads = threads;
-        h.points->signed_distances(points_of(rows), {result.mutable_data(), rows.count}, nsamples, options);
+        h.points->signed_distances(points_of(rows), {result.mutable_data(), rows.count}, nsamples, on_threads(threads));
     }
     return result;
 }
 
 double batch_seconds(AccelHandle& h, const py::handle& rows_obj, const std::string& query, unsigned threads) {
-    BatchOptions options;
-    options.threads = threads;
+    const BatchOptions options = on_threads(threads);
     if (query == "closest_point") {
         const Rows rows = query_points(rows_obj, "_batch_seconds");
         check_answer_memory(rows, sizeof(Vec3) + sizeof(NearestPoint), "_batch_seconds");

@@ -14,7 +14,7 @@
 #include "arrays.h"
 #include "inputs.h"
 #include "thicket/accel/accel.h"
-#include "thicket/accel/point_queries.h"
+#include "thicket/query/point_queries.h"
 #include "thicket/scene/scene.h"
 
 namespace thicket::python {

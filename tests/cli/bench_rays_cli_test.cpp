@@ -1,5 +1,5 @@
 // `thicket bench --rays/--any-rays`: a user's own rays measured like the standard sets, read
-// through the library's rows path (accel/ray_rows.h) as `thicket trace` and the module read them.
+// through the library's rows path (query/ray_rows.h) as `thicket trace` and the module read them.
 #include <gtest/gtest.h>
 
 #include <cmath>

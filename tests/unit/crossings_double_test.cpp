@@ -1,4 +1,4 @@
-// The crossings of double rays (accel/crossings_double.h): a millimetre stack of quads 1e7 from
+// The crossings of double rays (query/crossings_double.h): a millimetre stack of quads 1e7 from
 // the origin, which float rounds onto one plane, is crossed once per quad, in order, a ray through
 // a shared diagonal crossing once; the batch forms lay the lists out as HitLists does.
 #include <gtest/gtest.h>
@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "thicket/accel/double_rays.h"
+#include "thicket/query/double_rays.h"
 #include "thicket/accel/registry.h"
 #include "thicket/core/error.h"
 #include "thicket/scene/scene.h"
@@ -60,7 +60,7 @@ TEST(CrossingsDouble, MillimetreLayersAreCrossedOnceEachInOrder) {
     EXPECT_LT(build_accel("bvh", scene)->count_hits(rounded), 3u);
 }
 
-// The float64 batch (accel/double_rays.h) from rows: a row without a meaning answers a miss and
+// The float64 batch (query/double_rays.h) from rows: a row without a meaning answers a miss and
 // is counted; rows of 6 take the interval given beside them.
 TEST(CrossingsDouble, BatchFormsLayOutTheListsAndSkipInvalidRows) {
     const Scene scene = quad_stack();

@@ -1,4 +1,4 @@
-// HitColumns (accel/hit_columns.h), the columns cast_rays answers in: the four-row SIMD stores
+// HitColumns (query/hit_columns.h), the columns cast_rays answers in: the four-row SIMD stores
 // write what the scalar put() writes, bit for bit, streamed or not, for hits, misses and rows
 // without a ray, and a scene without a normal table takes Scene::normal at the hit.
 #include <gtest/gtest.h>
@@ -9,7 +9,7 @@
 #include <random>
 #include <vector>
 
-#include "thicket/accel/hit_columns.h"
+#include "thicket/query/hit_columns.h"
 #include "thicket/accel/registry.h"
 #include "thicket/scene/scene.h"
 

@@ -1,5 +1,5 @@
-// The library's point queries (accel/point_queries.h) and its rows-to-answers path
-// (accel/ray_rows.h), which the CLI and the Python module call: judged against analytic
+// The library's point queries (query/point_queries.h) and its rows-to-answers path
+// (query/ray_rows.h), which the CLI and the Python module call: judged against analytic
 // inside/outside on non-convex closed meshes, against brute force, and against make_ray().
 #include <gtest/gtest.h>
 
@@ -11,8 +11,8 @@
 #include <random>
 #include <vector>
 
-#include "thicket/accel/point_queries.h"
-#include "thicket/accel/ray_rows.h"
+#include "thicket/query/point_queries.h"
+#include "thicket/query/ray_rows.h"
 #include "thicket/accel/registry.h"
 #include "thicket/core/error.h"
 #include "support/probe.h"

@@ -11,7 +11,7 @@
 #include "thicket/bench/bench_json.h"
 #include "thicket/bench/bench_tables.h"
 #include "thicket/bench/runner.h"
-#include "thicket/accel/ray_rows.h"
+#include "thicket/query/ray_rows.h"
 #include "thicket/core/error.h"
 #include "thicket/util/atomic_file.h"
 #include "thicket/util/input_file.h"
@@ -66,7 +66,7 @@ void print_machine(const char* when) {
 }
 
 /// The rays of a .npy file (N x 8 float32, `thicket trace`'s layout) as a set of their own, read
-/// through the rows path that `thicket trace` and the Python module use (accel/ray_rows.h): the
+/// through the rows path that `thicket trace` and the Python module use (query/ray_rows.h): the
 /// same rows are the same rays everywhere, and a row without a meaning is left out (said here).
 RaySet file_ray_set(const std::string& path, bool any_hit, unsigned threads) {
     const NpyFloatArray matrix = read_npy_matrix(path, 8);

@@ -8,7 +8,7 @@
 #include "common.h"
 #include "point_commands.h"
 #include "thicket/instances/instances.h"
-#include "thicket/accel/point_queries.h"
+#include "thicket/query/point_queries.h"
 #include "thicket/core/error.h"
 #include "thicket/util/npy.h"
 #include "thicket/util/progress.h"
@@ -28,7 +28,7 @@ struct PointArgs {
     int samples = 3;
 };
 
-/// The points of a .npy file (N, 3), every value finite (accel/point_queries.h refuses the others).
+/// The points of a .npy file (N, 3), every value finite (query/point_queries.h refuses the others).
 /// float32 only: closest points and occupancy are computed in float32 by every structure (no
 /// precision=double form answers them), so a float64 file is refused rather than rounded.
 std::vector<Vec3> read_points(const std::string& path) {

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "common.h"
-#include "thicket/accel/double_rays.h"
-#include "thicket/accel/ray_rows.h"
+#include "thicket/query/double_rays.h"
+#include "thicket/query/ray_rows.h"
 #include "thicket/core/error.h"
 #include "thicket/util/input_file.h"
 #include "thicket/util/npy.h"
@@ -53,8 +53,8 @@ std::vector<unsigned char> crossing_records(const Lists& lists, size_t rays) {
 }
 
 /// The rays of a trace: float32 rows (RayRows, traced in chunks) or a converted float64 batch
-/// (RayBatchD, for precision=double structures). The batch queries (accel/ray_rows.h,
-/// accel/double_rays.h) take either, so one path below writes both; only the widths differ.
+/// (RayBatchD, for precision=double structures). The batch queries (query/ray_rows.h,
+/// query/double_rays.h) take either, so one path below writes both; only the widths differ.
 template <class Rays>
 constexpr bool kDouble = std::is_same_v<Rays, RayBatchD>;
 

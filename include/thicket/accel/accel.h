@@ -188,7 +188,7 @@ public:
 
     /// One thread's share of a batch (at most kBatchGrain rays), answered on the calling thread:
     /// the batch functions split the rays and call these, and so do the row readers
-    /// (accel/ray_rows.h), whose threads convert and answer a chunk each. The default asks
+    /// (query/ray_rows.h), whose threads convert and answer a chunk each. The default asks
     /// intersect()/occluded() ray by ray; a structure overrides them to trace groups of rays
     /// together, with the same answers.
     virtual void intersect_chunk(std::span<const Ray> rays, std::span<Hit> hits, bool coherent) const;

@@ -1,4 +1,4 @@
-#include "thicket/accel/hit_columns.h"
+#include "thicket/query/hit_columns.h"
 
 #include <cstring>
 

@@ -1,7 +1,7 @@
 #pragma once
 /// float64 rays as their users hold them, for the precision=double structures: rows of doubles
 /// (a .npy file of '<f8', a float64 numpy array) converted once into a batch, and the batch
-/// answered by the same four queries as float rows (accel/ray_rows.h), in double. Both front ends
+/// answered by the same four queries as float rows (query/ray_rows.h), in double. Both front ends
 /// (`thicket trace`, the Python module) read float64 rays through here and loop over none.
 #include <cstddef>
 #include <cstdint>
@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "thicket/accel/accel.h"
-#include "thicket/accel/crossings_double.h"
-#include "thicket/accel/ray_rows.h"
+#include "thicket/query/crossings_double.h"
+#include "thicket/query/ray_rows.h"
 #include "thicket/core/ray_double.h"
 
 namespace thicket {

@@ -1,5 +1,5 @@
 // Rows of floats to rays and their answers: the conversion every front end shares.
-#include "thicket/accel/ray_rows.h"
+#include "thicket/query/ray_rows.h"
 
 #include <algorithm>
 #include <atomic>

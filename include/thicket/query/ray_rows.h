@@ -20,7 +20,7 @@ namespace thicket {
 
 /// `count` rows of `width` values at `data`: width 8 is ox oy oz dx dy dz tmin tmax; width 6 is
 /// ox oy oz dx dy dz, every row with the interval [tmin, tmax] given here. float rows are RayRows;
-/// double rows (RayRowsD, accel/double_rays.h) are float64 rays for the precision=double structures.
+/// double rows (RayRowsD, query/double_rays.h) are float64 rays for the precision=double structures.
 template <class Scalar>
 struct RayRowsOf {
     const Scalar* data = nullptr;

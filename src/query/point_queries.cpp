@@ -1,5 +1,5 @@
 // Point queries: closest point (with the bvh8 fallback), distance, occupancy and signed distance.
-#include "thicket/accel/point_queries.h"
+#include "thicket/query/point_queries.h"
 
 #include <algorithm>
 #include <cmath>

@@ -6,7 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "thicket/accel/ray_rows.h"
+#include "thicket/query/ray_rows.h"
 #include "thicket/core/ray.h"
 #include "thicket/core/vec3.h"
 
