@@ -7,8 +7,10 @@
 /// make_structure() and set_build_and_load().
 #include <istream>
 #include <memory>
+#include <type_traits>
 #include <utility>
 
+#include "accel/option_fields.h"
 #include "thicket/accel/registry.h"
 #include "thicket/core/error.h"
 #include "thicket/prims/mixed.h"
@@ -71,16 +73,26 @@ std::unique_ptr<Accel> make_structure(const Scene& scene, const AccelSpec& spec,
     });
 }
 
-/// The registration of a structure built from its options and restored from its saved data:
-/// info.build makes Structure(prims, options(spec)), info.load Structure(prims, read(in, the
-/// scene's primitive count)).
-template <template <PrimitiveSet> class Structure, class Options, class Read>
-void set_build_and_load(AccelInfo& info, Options options, Read read) {
-    info.build = [options](const Scene& scene, const AccelSpec& spec) {
-        return make_structure<Structure>(scene, spec, options(spec));
+/// The registration of a structure built from its option fields and restored from its saved
+/// data: info.build makes Structure(prims, settings), info.load Structure(prims, saved, settings)
+/// where the structure takes its settings beside the saved data (those that check or rebuild
+/// from them), else Structure(prims, saved); `settings` is read_settings(fields, spec) and
+/// `saved` read(in, the scene's primitive count).
+template <template <PrimitiveSet> class Structure, class Settings, class Read>
+void set_build_and_load(AccelInfo& info, const OptionFields<Settings>& fields, Read read) {
+    info.build = [fields](const Scene& scene, const AccelSpec& spec) {
+        return make_structure<Structure>(scene, spec, read_settings(fields, spec));
     };
-    info.load = [read](std::istream& in, const Scene& scene, const AccelSpec& spec) {
-        return make_structure<Structure>(scene, spec, read(in, scene.primitive_count()));
+    info.load = [fields, read](std::istream& in, const Scene& scene, const AccelSpec& spec) {
+        auto saved = read(in, scene.primitive_count());
+        return with_primitives(scene, spec, [&](auto prims) -> std::unique_ptr<Accel> {
+            using P = decltype(prims);
+            if constexpr (std::is_constructible_v<Structure<P>, P, decltype(saved), const Settings&>)
+                return std::make_unique<Structure<P>>(std::move(prims), std::move(saved),
+                                                      read_settings(fields, spec));
+            else
+                return std::make_unique<Structure<P>>(std::move(prims), std::move(saved));
+        });
     };
 }
 

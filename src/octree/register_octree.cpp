@@ -10,34 +10,38 @@ constexpr Choice<OctreeTraversal> kTraversals[] = {
     {"restart", OctreeTraversal::Restart},
 };
 
+using OctreeSettings = BuildAndTraversal<OctreeBuildOptions, OctreeTraversal, OctreeTraversal::Parametric>;
+
 }  // namespace
 
 void register_octree(std::vector<AccelInfo>& registry) {
-    AccelInfo info;
-    info.name = "octree";
-    info.partitioning = Partitioning::Space;
-    info.summary = "adaptive octree (Glassner 1984): cubic cells split in eight, parametric (Revelles et al. 2000) "
-                   "or restart traversal";
-    info.options = {
-        {"leaf-size", "a cell holding more primitives is split into its eight octants", "8", {}, 1, 255},
-        {"max-depth", "deepest level (the root is level 0)", "10", {}, 0, long(kOctreeMaxDepth)},
-        choice_option("traversal",
-                      "parametric (Revelles, Urena & Lastra 2000: plane distances, first-node and next-node rules) "
-                      "or restart (the lecture: locate the leaf at the current distance from the root, test it, "
-                      "continue at its exit)",
-                      OctreeTraversal::Parametric, kTraversals),
+    using B = OctreeBuildOptions;
+    const OptionFields<OctreeSettings> fields = join_fields(
+        fields_in(&OctreeSettings::build,
+                  {int_field("leaf-size", "a cell holding more primitives is split into its eight octants",
+                             &B::leaf_size, 1, 255),
+                   int_field("max-depth", "deepest level (the root is level 0)", &B::max_depth, 0,
+                             long(kOctreeMaxDepth))}),
+        OptionFields<OctreeSettings>{choice_field(
+            "traversal",
+            "parametric (Revelles, Urena & Lastra 2000: plane distances, first-node and next-node rules) or "
+            "restart (the lecture: locate the leaf at the current distance from the root, test it, continue at "
+            "its exit)",
+            &OctreeSettings::traversal, kTraversals)});
+    AccelInfo info = accel_info({.name = "octree",
+                                 .partitioning = Partitioning::Space,
+                                 .summary = "adaptive octree (Glassner 1984): cubic cells split in eight, parametric "
+                                            "(Revelles et al. 2000) or restart traversal",
+                                 .variants = {"octree", "octree:traversal=restart", "octree:leaf-size=2,max-depth=16",
+                                              "octree:traversal=restart,leaf-size=1,max-depth=4,isect=watertight"}},
+                                fields);
+    info.build = [fields](const Scene& scene, const AccelSpec& spec) {
+        const OctreeSettings s = read_settings(fields, spec);
+        return make_structure<Octree>(scene, spec, s.build, s.traversal);
     };
-    info.variants = {"octree", "octree:traversal=restart", "octree:leaf-size=2,max-depth=16",
-                     "octree:traversal=restart,leaf-size=1,max-depth=4,isect=watertight"};
-    info.build = [](const Scene& scene, const AccelSpec& spec) {
-        OctreeBuildOptions o;
-        o.leaf_size = int(spec.get_int("leaf-size"));
-        o.max_depth = int(spec.get_int("max-depth"));
-        return make_structure<Octree>(scene, spec, o, spec.choice("traversal", kTraversals));
-    };
-    info.load = [](std::istream& in, const Scene& scene, const AccelSpec& spec) {
+    info.load = [fields](std::istream& in, const Scene& scene, const AccelSpec& spec) {
         return make_structure<Octree>(scene, spec, read_octree(in, scene.primitive_count()),
-                                      spec.choice("traversal", kTraversals));
+                                      read_settings(fields, spec).traversal);
     };
     registry.push_back(std::move(info));
 }
