@@ -162,18 +162,22 @@ TEST(Bvh8Packets, PacketsOffIsTheSameAnswer) {
     const Scene scene = load_scene("cornell");
     const Aabb b = scene.bounds();
     const std::vector<Ray> rays = tiled_camera_rays(Camera(b.center(), b.max, {0, 1, 0}, 50.0f), 48, 48);
-    const auto on = build_accel("bvh8", scene), off = build_accel("bvh8:packets=off", scene);
-    std::vector<Hit> a(rays.size()), c(rays.size());
-    BatchOptions hint;
-    hint.coherent = true;
-    on->intersect(rays, a, hint);
-    off->intersect(rays, c, hint);
-    for (size_t i = 0; i < rays.size(); ++i) ASSERT_EQ(a[i].t, c[i].t) << "ray " << i;
-    // The comparison means something only if the packets ran, and only where they were asked for.
-    EXPECT_EQ(packet_rays(*on), rays.size());
-    EXPECT_EQ(packet_rays(*off), 0u);
-    on->intersect(rays, a);  // not marked coherent: ray by ray
-    EXPECT_EQ(packet_rays(*on), rays.size());
+    for (const std::string& spec : every_isa("")) {
+        const auto on = build_accel(spec, scene), off = build_accel(spec + ",packets=off", scene);
+        std::vector<Hit> a(rays.size()), c(rays.size());
+        BatchOptions hint;
+        hint.coherent = true;
+        on->intersect(rays, a, hint);
+        off->intersect(rays, c, hint);
+        for (size_t i = 0; i < rays.size(); ++i) ASSERT_EQ(a[i].t, c[i].t) << spec << " ray " << i;
+        // The comparison means something only if the packets ran, and only where they were asked
+        // for: every ray on a level with a packet kernel, none on the others.
+        const uint64_t packets = traces_packets(spec) ? rays.size() : 0;
+        EXPECT_EQ(packet_rays(*on), packets) << spec;
+        EXPECT_EQ(packet_rays(*off), 0u) << spec;
+        on->intersect(rays, a);  // not marked coherent: ray by ray
+        EXPECT_EQ(packet_rays(*on), packets) << spec;
+    }
 }
 
 TEST(AccelBatch, SpansOfDifferentSizesAreAnError) {
