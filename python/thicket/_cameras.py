@@ -3,27 +3,18 @@
 
 import inspect
 import math
-import operator
 
 import numpy as np
+
+from ._arguments import count
 
 __all__ = ["create_rays_pinhole"]
 
 
 def _pixels(width_px, height_px):
     """width_px and height_px as positive ints (ValueError/TypeError naming the one at fault)."""
-    out = []
-    for name, value in (("width_px", width_px), ("height_px", height_px)):
-        if isinstance(value, bool):
-            raise TypeError(f"create_rays_pinhole: {name} must be an int, not bool")
-        try:
-            n = operator.index(value)
-        except TypeError:
-            raise TypeError(f"create_rays_pinhole: {name} must be an int, got {type(value).__name__} {value!r}") from None
-        if n < 1:
-            raise ValueError(f"create_rays_pinhole: {name} must be at least 1, got {n}")
-        out.append(n)
-    return out
+    return [count(value, f"create_rays_pinhole: {name}", "at least 1", least=1)
+            for name, value in (("width_px", width_px), ("height_px", height_px))]
 
 
 def _matrix(value, name, shape):

@@ -6,10 +6,9 @@ built over it on the first query after a change. The structure's primitive ids a
 the queries turn them into (geometry id, primitive id within the geometry) with numpy, a search
 over the geometries' first ids per answer, so no Python runs per ray."""
 
-import operator
-
 import numpy as np
 
+from ._arguments import count as _count_argument
 from ._cameras import create_rays_pinhole as _create_rays_pinhole
 from ._thicket import DEFAULT_SPEC, Error, Scene, build
 
@@ -66,19 +65,6 @@ def _float_rows(value, name, widths):
         raise ValueError(f"{name}: expected a float array of shape {widths} (float32; other float dtypes are "
                          f"rounded to float32), got shape {a.shape} {a.dtype}")
     return a if a.dtype == np.float32 else a.astype(np.float32)
-
-
-def _count(value, name, what):
-    """value as a non-negative int (ValueError/TypeError naming `name` otherwise)."""
-    if isinstance(value, bool):
-        raise TypeError(f"{name} must be an int, not bool")
-    try:
-        n = operator.index(value)
-    except TypeError:
-        raise TypeError(f"{name} must be an int, got {type(value).__name__} {value!r}") from None
-    if n < 0:
-        raise ValueError(f"{name} must be {what}, got {n}")
-    return n
 
 
 def _mesh_arrays(mesh):
@@ -138,7 +124,7 @@ class RaycastingScene:
         as thicket.build does. accel: the spec string of the structure (thicket.build's, default
         "bvh8": the fastest traversal, answers closest points itself, and refits); a bad spec is a
         thicket.Error here, not at the first query."""
-        self._nthreads = _count(nthreads, "nthreads", "0 (one thread per core) or a thread count")
+        self._nthreads = _count_argument(nthreads, "nthreads", "0 (one thread per core) or a thread count")
         if self._nthreads > _INVALID:
             raise ValueError(f"nthreads must be 0 (one thread per core) or a thread count up to {_INVALID}, got {nthreads}")
         if not isinstance(accel, str):
@@ -222,7 +208,7 @@ class RaycastingScene:
         structure (the geometries' own structures are kept). Errors as add_instance's, and a
         ValueError for an id out of range; the scene unchanged."""
         count = len(self._instances)
-        iid = _count(instance_id, "instance_id", f"an instance id in 0..{count - 1}")
+        iid = _count_argument(instance_id, "instance_id", f"an instance id in 0..{count - 1}")
         if iid >= count:
             raise ValueError(f"instance_id must be an instance id in 0..{count - 1}, got {iid}" if count else
                              f"instance_id {iid}: the scene has no instance yet (add_instance first)")
@@ -233,7 +219,7 @@ class RaycastingScene:
 
     @staticmethod
     def _geometry_id(geometry_id, count):
-        gid = _count(geometry_id, "geometry_id", f"a geometry id in 0..{count - 1}")
+        gid = _count_argument(geometry_id, "geometry_id", f"a geometry id in 0..{count - 1}")
         if gid >= count:
             raise ValueError(f"geometry_id must be a geometry id in 0..{count - 1}, got {gid}" if count else
                              f"geometry_id {gid}: the scene has no geometry yet (add_triangles first)")

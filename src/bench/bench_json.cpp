@@ -38,16 +38,8 @@ std::string json_quote(std::string_view s) {
 }
 
 std::string bench_rows_json(std::span<const BenchRow> rows) {
-    std::string out = "[";
-    for (size_t i = 0; i < rows.size(); ++i) {
-        const BenchRow& r = rows[i];
-        out += i ? ",\n  " : "\n  ";
-        JsonObjectWriter o(out);
-        o.str("scene", r.scene);
-        o.integer("primitives", r.primitives);
-        o.integer("shapes", r.shapes);
-        o.str("accel", r.accel);
-        o.str("spec", r.spec);
+    return json_array(rows, [](JsonObjectWriter& o, const BenchRow& r) {
+        write_row_names(o, r);
         o.str("set", r.set);
         o.boolean("any_hit", r.any_hit);
         o.integer("threads", r.threads);
@@ -83,9 +75,7 @@ std::string bench_rows_json(std::span<const BenchRow> rows) {
         }
         o.optional("max_dt", r.max_dt);
         o.optional("max_dt_rel", r.max_dt_rel);
-        o.close();
-    }
-    return out + (rows.empty() ? "]\n" : "\n]\n");
+    }) + "\n";
 }
 
 }  // namespace thicket

@@ -250,16 +250,8 @@ std::string compare_json(std::span<const CompareRow> rows, const CompareSettings
         o.close();
     }
     doc.raw("settings", s);
-    std::string list = "[";
-    for (size_t i = 0; i < rows.size(); ++i) {
-        const CompareRow& r = rows[i];
-        list += i ? ",\n  " : "\n  ";
-        JsonObjectWriter o(list);
-        o.str("scene", r.scene);
-        o.integer("primitives", r.primitives);
-        o.integer("shapes", r.shapes);
-        o.str("accel", r.accel);
-        o.str("spec", r.spec);
+    doc.raw("rows", json_array(rows, [&](JsonObjectWriter& o, const CompareRow& r) {
+        write_row_names(o, r);
         o.str("partitioning", partitioning_name(r.partitioning));
         o.number("build_ms", r.speed.empty() ? NAN : r.build_ms());
         o.integer("structure_bytes", r.structure_bytes());
@@ -271,9 +263,7 @@ std::string compare_json(std::span<const CompareRow> rows, const CompareSettings
         std::string speed = bench_rows_json(r.speed);
         while (!speed.empty() && speed.back() == '\n') speed.pop_back();
         o.raw("speed", speed);
-        o.close();
-    }
-    doc.raw("rows", list + (rows.empty() ? "]" : "\n]"));
+    }));
     doc.close();
     return out + "\n";
 }

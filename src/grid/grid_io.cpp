@@ -14,6 +14,16 @@ namespace thicket {
 
 namespace {
 
+void write_resolution(std::ostream& out, const GridFrame& frame) {
+    for (const uint32_t n : frame.res) write_value(out, n);
+}
+
+/// Writes what read_cell_lists reads: the offsets, then the entries, each after its length.
+void write_cell_lists(std::ostream& out, const CellLists& lists) {
+    write_counted_array<uint64_t>(out, lists.start);
+    write_counted_array<uint64_t>(out, lists.refs);
+}
+
 GridResolution read_resolution(PayloadReader& reader, const char* who) {
     GridResolution r;
     for (uint32_t& n : r.n) reader.value(n, "resolution");
@@ -35,9 +45,8 @@ void read_cell_lists(PayloadReader& reader, CellLists& lists, uint64_t cells, si
 }  // namespace
 
 void write_grid(std::ostream& out, const GridData& g) {
-    for (const uint32_t n : g.frame.res) write_value(out, n);
-    write_counted_array<uint64_t>(out, g.lists.start);
-    write_counted_array<uint64_t>(out, g.lists.refs);
+    write_resolution(out, g.frame);
+    write_cell_lists(out, g.lists);
 }
 
 SavedGrid read_grid(std::istream& in, size_t primitive_count) {
@@ -50,10 +59,9 @@ SavedGrid read_grid(std::istream& in, size_t primitive_count) {
 }
 
 void write_grid2(std::ostream& out, const Grid2Data& g) {
-    for (const uint32_t n : g.frame.res) write_value(out, n);
+    write_resolution(out, g.frame);
     write_counted_array<uint64_t>(out, g.top);
-    write_counted_array<uint64_t>(out, g.leaves.start);
-    write_counted_array<uint64_t>(out, g.leaves.refs);
+    write_cell_lists(out, g.leaves);
 }
 
 SavedGrid2 read_grid2(std::istream& in, size_t primitive_count) {

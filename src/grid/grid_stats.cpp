@@ -30,24 +30,21 @@ Grid2Figures grid2_figures(const Grid2Data& g) {
     const double top_ratio = root_area > 0.0 ? double(g.frame.cell_box(0, 0, 0).area()) / root_area
                                              : 1.0 / double(r.top_cells);
     r.cost = top_ratio * kSahTraversalCost * double(r.top_cells);
-    uint32_t cell[3];
-    for (cell[2] = 0; cell[2] < g.frame.res[2]; ++cell[2])
-        for (cell[1] = 0; cell[1] < g.frame.res[1]; ++cell[1])
-            for (cell[0] = 0; cell[0] < g.frame.res[0]; ++cell[0]) {
-                const TopCell& tc = g.top[g.frame.index(cell[0], cell[1], cell[2])];
-                if (tc.empty()) {
-                    ++r.top_empty;
-                    continue;
-                }
-                CellFigures f = cell_figures(g.sub_frame(cell, tc), g.leaves, tc.first_leaf, root_area);
-                // A root of zero area weighs each top cell equally (and its sub-cells within it).
-                if (!(root_area > 0.0)) f.cost /= double(r.top_cells);
-                r.leaf.cells += f.cells;
-                r.leaf.empty += f.empty;
-                r.leaf.refs += f.refs;
-                r.leaf.max_refs = std::max(r.leaf.max_refs, f.max_refs);
-                r.leaf.cost += f.cost;
-            }
+    g.frame.for_each_cell([&](const uint32_t cell[3], uint32_t c) {
+        const TopCell& tc = g.top[c];
+        if (tc.empty()) {
+            ++r.top_empty;
+            return;
+        }
+        CellFigures f = cell_figures(g.sub_frame(cell, tc), g.leaves, tc.first_leaf, root_area);
+        // A root of zero area weighs each top cell equally (and its sub-cells within it).
+        if (!(root_area > 0.0)) f.cost /= double(r.top_cells);
+        r.leaf.cells += f.cells;
+        r.leaf.empty += f.empty;
+        r.leaf.refs += f.refs;
+        r.leaf.max_refs = std::max(r.leaf.max_refs, f.max_refs);
+        r.leaf.cost += f.cost;
+    });
     r.cost += r.leaf.cost;
     return r;
 }

@@ -1,6 +1,7 @@
 #include "thicket/instances/instance_top.h"
 
 #include <algorithm>
+#include <span>
 #include <utility>
 
 #include "thicket/bvh8/bvh8.h"
@@ -30,13 +31,8 @@ bool bvh8_bottom(const Accel& accel, InstanceBottom& out) {
 bool closest_instances(const void* view, const uint32_t* ids, uint32_t count, const Ray& ray, Hit& hit) {
     const auto& v = *static_cast<const InstanceTop::View*>(view);
     bool found = false;
-    for (uint32_t k = 0; k < count; ++k) {
-        const InstanceLeaf& leaf = v.leaves[ids + k - v.ids];
-        const InstanceBottom& b = v.bottoms[leaf.bottom];
-        const Ray local = leaf.to_local.ray(ray, hit.t);
-        Hit h;
-        if (b.ctx) h = b.closest[v.counters ? 1 : 0](*b.ctx, local, v.counters);
-        else h = v.counters ? b.accel->intersect(local, *v.counters) : b.accel->intersect(local);
+    for (const InstanceLeaf& leaf : std::span(v.leaves + (ids - v.ids), count)) {
+        const Hit h = v.bottoms[leaf.bottom].closest_hit(leaf.to_local.ray(ray, hit.t), v.counters);
         if (h.found() && (!hit.found() || h.t < hit.t)) {
             hit = h;
             hit.prim = leaf.flat_first + h.prim;
@@ -49,19 +45,22 @@ bool closest_instances(const void* view, const uint32_t* ids, uint32_t count, co
 /// AnyLeafFn of the top level: whether any instance of the leaf is hit within the ray's interval.
 bool any_instance(const void* view, const uint32_t* ids, uint32_t count, const Ray& ray) {
     const auto& v = *static_cast<const InstanceTop::View*>(view);
-    for (uint32_t k = 0; k < count; ++k) {
-        const InstanceLeaf& leaf = v.leaves[ids + k - v.ids];
-        const InstanceBottom& b = v.bottoms[leaf.bottom];
-        const Ray local = leaf.to_local.ray(ray, ray.tmax);
-        bool hit;
-        if (b.ctx) hit = b.any[v.counters ? 1 : 0](*b.ctx, local, v.counters);
-        else hit = v.counters ? b.accel->occluded(local, *v.counters) : b.accel->occluded(local);
-        if (hit) return true;
-    }
+    for (const InstanceLeaf& leaf : std::span(v.leaves + (ids - v.ids), count))
+        if (v.bottoms[leaf.bottom].any_hit(leaf.to_local.ray(ray, ray.tmax), v.counters)) return true;
     return false;
 }
 
 }  // namespace
+
+Hit InstanceBottom::closest_hit(const Ray& local, RayCounters* counters) const {
+    if (ctx) return closest[counters ? 1 : 0](*ctx, local, counters);
+    return counters ? accel->intersect(local, *counters) : accel->intersect(local);
+}
+
+bool InstanceBottom::any_hit(const Ray& local, RayCounters* counters) const {
+    if (ctx) return any[counters ? 1 : 0](*ctx, local, counters);
+    return counters ? accel->occluded(local, *counters) : accel->occluded(local);
+}
 
 InstanceBottom instance_bottom(const Accel& accel) {
     InstanceBottom out;
@@ -119,25 +118,35 @@ InstanceTop::InstanceTop(std::span<const Aabb> boxes, std::vector<InstanceLeaf> 
     if (!tree_.nodes.empty()) bvh8::set_plane_bounds(ctx_, tree_.nodes.data(), tree_.nodes.size());
 }
 
+namespace {
+
+/// kernel(ctx, counters) on the top level's context, or with counters on a copy whose leaves
+/// count into *counters too: the counters travel to the leaves in a view of this call's own.
+template <class Kernel>
+auto counting_leaves(const bvh8::TraceContext& top, const InstanceTop::View& view, RayCounters* counters,
+                     Kernel&& kernel) {
+    if (!counters) return kernel(top, nullptr);
+    InstanceTop::View counting = view;
+    counting.counters = counters;
+    bvh8::TraceContext ctx = top;
+    ctx.prims = &counting;
+    return kernel(ctx, counters);
+}
+
+}  // namespace
+
 Hit InstanceTop::closest(const Ray& ray, RayCounters* counters) const {
     if (tree_.nodes.empty()) return miss_for(ray);
-    if (!counters) return kernels_->closest[bvh8::kLeafCallback][0](ctx_, ray, nullptr);
-    // The counters travel to the leaves in a view of this call's own.
-    View counting = view_;
-    counting.counters = counters;
-    bvh8::TraceContext ctx = ctx_;
-    ctx.prims = &counting;
-    return kernels_->closest[bvh8::kLeafCallback][1](ctx, ray, counters);
+    return counting_leaves(ctx_, view_, counters, [&](const bvh8::TraceContext& ctx, RayCounters* c) {
+        return kernels_->closest[bvh8::kLeafCallback][c ? 1 : 0](ctx, ray, c);
+    });
 }
 
 bool InstanceTop::any(const Ray& ray, RayCounters* counters) const {
     if (tree_.nodes.empty()) return false;
-    if (!counters) return kernels_->any[bvh8::kLeafCallback][0](ctx_, ray, nullptr);
-    View counting = view_;
-    counting.counters = counters;
-    bvh8::TraceContext ctx = ctx_;
-    ctx.prims = &counting;
-    return kernels_->any[bvh8::kLeafCallback][1](ctx, ray, counters);
+    return counting_leaves(ctx_, view_, counters, [&](const bvh8::TraceContext& ctx, RayCounters* c) {
+        return kernels_->any[bvh8::kLeafCallback][c ? 1 : 0](ctx, ray, c);
+    });
 }
 
 }  // namespace thicket

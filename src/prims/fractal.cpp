@@ -166,26 +166,69 @@ uint64_t hash_march(const FractalMarch& m, uint64_t h) {
     return fnv1a(&m.max_steps, sizeof m.max_steps, h);
 }
 
+uint64_t hash_params(const JuliaParams& p, uint64_t h) {
+    h = fnv1a(p.c.data(), sizeof p.c, h);
+    h = fnv1a(&p.w, sizeof p.w, h);
+    h = fnv1a(&p.bailout, sizeof p.bailout, h);
+    return hash_march(p.march, h);
+}
+
+uint64_t hash_params(const MandelbulbParams& p, uint64_t h) {
+    h = fnv1a(&p.power, sizeof p.power, h);
+    h = fnv1a(&p.bailout, sizeof p.bailout, h);
+    return hash_march(p.march, h);
+}
+
 }  // namespace
+
+// ---- What both share ----------------------------------------------------------------------
+
+template <class Derived, class P>
+void DistanceFractal<Derived, P>::bound(double set_radius, double slice_radius, const char* type) {
+    set_radius_ = set_radius;
+    bound_radius_ = slice_radius + bounding_margin(set_radius, p_.march.epsilon);
+    bounds_ = sphere_bounds(p_.march, bound_radius_, type);
+}
+
+template <class Derived, class P>
+uint64_t DistanceFractal<Derived, P>::hash(uint64_t seed) const {
+    return hash_params(p_, seed);
+}
+
+template <class Derived, class P>
+bool DistanceFractal<Derived, P>::object_segment(const Ray& ray, float tmax, FractalSegment& seg) const {
+    return sphere_segment(p_.march, bound_radius_, ray, tmax, seg);
+}
+
+template <class Derived, class P>
+bool DistanceFractal<Derived, P>::intersect(const Ray& ray, float tmax, ShapeHit& hit) const {
+    const auto de = [this](const Point3d& q) { return static_cast<const Derived*>(this)->distance(q); };
+    return march_hit(de, p_.march, bound_radius_, ray, tmax, hit);
+}
+
+template <class Derived, class P>
+Vec3 DistanceFractal<Derived, P>::normal(Vec3 p, float, float) const {
+    const auto de = [this](const Point3d& q) { return static_cast<const Derived*>(this)->distance(q); };
+    return de_normal(de, object_point(p_.march, p), 0.5 * p_.march.epsilon);
+}
 
 // ---- Julia -------------------------------------------------------------------------------
 
-Julia::Julia(const Params& p) : p_(p) {
+Julia::Julia(const Params& p) : DistanceFractal(p) {
     const std::string type = "julia";
     check_march(p.march, type);
     for (double x : p.c)
         if (!finite(x)) throw Error(type + ": c must be finite, got component " + format_number(x));
     if (!finite(p.w)) throw Error(type + ": w must be finite");
     const double cn = std::sqrt(p.c[0] * p.c[0] + p.c[1] * p.c[1] + p.c[2] * p.c[2] + p.c[3] * p.c[3]);
-    set_radius_ = 0.5 + std::sqrt(0.25 + cn);
-    if (!(p.bailout >= set_radius_) || !finite(p.bailout))
-        throw Error(type + ": bailout " + format_number(p.bailout) + " is below the set's radius " + format_number(set_radius_) +
+    const double radius = 0.5 + std::sqrt(0.25 + cn);
+    if (!(p.bailout >= radius) || !finite(p.bailout))
+        throw Error(type + ": bailout " + format_number(p.bailout) + " is below the set's radius " + format_number(radius) +
                     " (0.5 + sqrt(0.25 + |c|)): points of the set would count as escaped");
-    if (!(std::fabs(p.w) < set_radius_))
+    if (!(std::fabs(p.w) < radius))
         throw Error(type + ": the slice w = " + format_number(p.w) + " misses the set (|w| must be below " +
-                    format_number(set_radius_) + ")");
-    bound_radius_ = std::sqrt(set_radius_ * set_radius_ - p.w * p.w) + bounding_margin(set_radius_, p.march.epsilon);
-    bounds_ = sphere_bounds(p.march, bound_radius_, type);
+                    format_number(radius) + ")");
+    bound(radius, std::sqrt(radius * radius - p.w * p.w), "julia");
 }
 
 double Julia::distance(const std::array<double, 3>& q) const {
@@ -210,38 +253,18 @@ double Julia::distance(const std::array<double, 3>& q) const {
     return 0.5 * r * std::log(r) / dz;
 }
 
-bool Julia::object_segment(const Ray& ray, float tmax, FractalSegment& seg) const {
-    return sphere_segment(p_.march, bound_radius_, ray, tmax, seg);
-}
-
-bool Julia::intersect(const Ray& ray, float tmax, ShapeHit& hit) const {
-    return march_hit([this](const Point3d& q) { return distance(q); }, p_.march, bound_radius_, ray, tmax, hit);
-}
-
-Vec3 Julia::normal(Vec3 p, float, float) const {
-    return de_normal([this](const Point3d& q) { return distance(q); }, object_point(p_.march, p), 0.5 * p_.march.epsilon);
-}
-
-uint64_t Julia::hash(uint64_t h) const {
-    h = fnv1a(p_.c.data(), sizeof p_.c, h);
-    h = fnv1a(&p_.w, sizeof p_.w, h);
-    h = fnv1a(&p_.bailout, sizeof p_.bailout, h);
-    return hash_march(p_.march, h);
-}
-
 // ---- Mandelbulb --------------------------------------------------------------------------
 
-Mandelbulb::Mandelbulb(const Params& p) : p_(p) {
+Mandelbulb::Mandelbulb(const Params& p) : DistanceFractal(p) {
     const std::string type = "mandelbulb";
     check_march(p.march, type);
     if (!(p.power >= 2.0 && p.power <= 32.0))
         throw Error(type + ": power must be in [2, 32], got " + format_number(p.power));
-    set_radius_ = std::pow(2.0, 1.0 / (p.power - 1.0));
-    if (!(p.bailout >= set_radius_) || !finite(p.bailout))
-        throw Error(type + ": bailout " + format_number(p.bailout) + " is below the set's radius " + format_number(set_radius_) +
+    const double radius = std::pow(2.0, 1.0 / (p.power - 1.0));
+    if (!(p.bailout >= radius) || !finite(p.bailout))
+        throw Error(type + ": bailout " + format_number(p.bailout) + " is below the set's radius " + format_number(radius) +
                     " (2^(1/(power-1))): points of the set would count as escaped");
-    bound_radius_ = set_radius_ + bounding_margin(set_radius_, p.march.epsilon);
-    bounds_ = sphere_bounds(p.march, bound_radius_, type);
+    bound(radius, radius, "mandelbulb");
 }
 
 double Mandelbulb::distance(const std::array<double, 3>& q) const {
@@ -267,22 +290,7 @@ double Mandelbulb::distance(const std::array<double, 3>& q) const {
     return 0.5 * std::log(r) * r / dr;
 }
 
-bool Mandelbulb::object_segment(const Ray& ray, float tmax, FractalSegment& seg) const {
-    return sphere_segment(p_.march, bound_radius_, ray, tmax, seg);
-}
-
-bool Mandelbulb::intersect(const Ray& ray, float tmax, ShapeHit& hit) const {
-    return march_hit([this](const Point3d& q) { return distance(q); }, p_.march, bound_radius_, ray, tmax, hit);
-}
-
-Vec3 Mandelbulb::normal(Vec3 p, float, float) const {
-    return de_normal([this](const Point3d& q) { return distance(q); }, object_point(p_.march, p), 0.5 * p_.march.epsilon);
-}
-
-uint64_t Mandelbulb::hash(uint64_t h) const {
-    h = fnv1a(&p_.power, sizeof p_.power, h);
-    h = fnv1a(&p_.bailout, sizeof p_.bailout, h);
-    return hash_march(p_.march, h);
-}
+template class DistanceFractal<Julia, JuliaParams>;
+template class DistanceFractal<Mandelbulb, MandelbulbParams>;
 
 }  // namespace thicket

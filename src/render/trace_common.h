@@ -36,6 +36,38 @@ struct Tiling {
     }
 };
 
+/// The camera rays through the centres of tile `tile`'s pixels, in Tiling::pixels' order
+/// (`pixel` gets their image indices).
+inline void tile_camera_rays(const Camera& camera, const Tiling& tiling, size_t tile, std::vector<uint32_t>& pixel,
+                             std::vector<Ray>& rays) {
+    tiling.pixels(tile, pixel);
+    rays.clear();
+    const uint32_t w = uint32_t(tiling.width);
+    for (uint32_t p : pixel)
+        rays.push_back(camera.generate(float(p % w) + 0.5f, float(p / w) + 0.5f, tiling.width, tiling.height));
+}
+
+/// The closest hits of one tile's rays into `found`, on this thread (the tiles are the parallel
+/// loop): one coherent batch, or with `count` each ray alone, since the batch API's packets share
+/// their node visits, and counted(k, counters) called for ray k.
+template <class Counted>
+void trace_tile(const Accel& accel, const std::vector<Ray>& rays, std::vector<Hit>& found, bool count,
+                Counted&& counted) {
+    found.resize(rays.size());
+    if (count) {
+        for (size_t k = 0; k < rays.size(); ++k) {
+            RayCounters counters;
+            found[k] = accel.intersect(rays[k], counters);
+            counted(k, counters);
+        }
+        return;
+    }
+    BatchOptions batch;
+    batch.threads = 1;
+    batch.coherent = true;
+    accel.intersect(rays, found, batch);
+}
+
 /// Offset that keeps a ray leaving point p off the surface it leaves: relative to p's magnitude.
 inline float ray_epsilon(Vec3 p) { return 2e-4f * std::max(1.0f, max_component(abs(p))); }
 

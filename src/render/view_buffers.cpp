@@ -46,26 +46,11 @@ ViewBuffers render_view_buffers(const Scene& scene, const Accel& accel, const Ca
         std::vector<Hit> found;
         uint64_t chunk_hits = 0;
         for (size_t tile = tile_begin; tile < tile_end; ++tile) {
-            tiling.pixels(tile, pixel);
-            rays.clear();
-            for (uint32_t p : pixel)
-                rays.push_back(camera.generate(float(p % uint32_t(width)) + 0.5f, float(p / uint32_t(width)) + 0.5f,
-                                               width, height));
-            found.resize(rays.size());
-            if (request.counters) {
-                // Counting needs the single-ray path: the batch API's packets share their node visits.
-                for (size_t k = 0; k < rays.size(); ++k) {
-                    RayCounters counters;
-                    found[k] = accel.intersect(rays[k], counters);
-                    out.nodes[pixel[k]] = saturate32(counters.nodes);
-                    out.prims[pixel[k]] = saturate32(counters.prims);
-                }
-            } else {
-                BatchOptions batch;
-                batch.threads = 1;  // the tiles are the parallel loop
-                batch.coherent = true;
-                accel.intersect(rays, found, batch);
-            }
+            tile_camera_rays(camera, tiling, tile, pixel, rays);
+            trace_tile(accel, rays, found, request.counters, [&](size_t k, const RayCounters& counters) {
+                out.nodes[pixel[k]] = saturate32(counters.nodes);
+                out.prims[pixel[k]] = saturate32(counters.prims);
+            });
             for (size_t k = 0; k < rays.size(); ++k) {
                 const Hit& hit = found[k];
                 if (!hit.found()) continue;

@@ -135,26 +135,12 @@ Image render_view(const Scene& scene, const Accel& accel, const Camera& camera, 
         std::vector<uint32_t> pixel;  // image index of each ray
         std::vector<Hit> found;
         for (size_t tile = tile_begin; tile < tile_end; ++tile) {
-            tiling.pixels(tile, pixel);
-            rays.clear();
-            for (uint32_t p : pixel)
-                rays.push_back(camera.generate(float(p % uint32_t(W)) + 0.5f, float(p / uint32_t(W)) + 0.5f, W, H));
-            found.resize(rays.size());
-            if (options.view == View::Heatmap) {
-                for (size_t k = 0; k < rays.size(); ++k) {
-                    RayCounters counters;
-                    found[k] = accel.intersect(rays[k], counters);
-                    nodes[pixel[k]] =
-                        uint32_t(std::min<uint64_t>(counters.nodes, std::numeric_limits<uint32_t>::max()));
-                    chunk_nodes += counters.nodes;
-                    chunk_prims += counters.prims;
-                }
-            } else {
-                BatchOptions batch;
-                batch.threads = 1;  // this loop is the parallel one
-                batch.coherent = true;
-                accel.intersect(rays, found, batch);
-            }
+            tile_camera_rays(camera, tiling, tile, pixel, rays);
+            trace_tile(accel, rays, found, options.view == View::Heatmap, [&](size_t k, const RayCounters& counters) {
+                nodes[pixel[k]] = uint32_t(std::min<uint64_t>(counters.nodes, std::numeric_limits<uint32_t>::max()));
+                chunk_nodes += counters.nodes;
+                chunk_prims += counters.prims;
+            });
             for (size_t k = 0; k < rays.size(); ++k) {
                 const Hit& hit = found[k];
                 if (!hit.found()) continue;

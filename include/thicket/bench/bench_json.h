@@ -45,6 +45,31 @@ private:
     bool first_ = true;
 };
 
+/// `rows` as a JSON array of objects, one per line, each filled by write(JsonObjectWriter&, row);
+/// "[]" when there are none, no newline after the closing bracket.
+template <class Row, class Write>
+std::string json_array(std::span<const Row> rows, Write write) {
+    std::string out = "[";
+    for (size_t i = 0; i < rows.size(); ++i) {
+        out += i ? ",\n  " : "\n  ";
+        JsonObjectWriter o(out);
+        write(o, rows[i]);
+        o.close();
+    }
+    return out + (rows.empty() ? "]" : "\n]");
+}
+
+/// The fields that say what a row measured, under their member names: scene, primitives,
+/// shapes, accel, spec (BenchRow and CompareRow both start so).
+template <class Row>
+void write_row_names(JsonObjectWriter& o, const Row& r) {
+    o.str("scene", r.scene);
+    o.integer("primitives", r.primitives);
+    o.integer("shapes", r.shapes);
+    o.str("accel", r.accel);
+    o.str("spec", r.spec);
+}
+
 /// The rows as a JSON array of objects, one per line, ending in a newline. Every field of
 /// BenchRow appears under its member name, plus "bytes_per_prim"; unmeasured optional figures and
 /// non-finite numbers are null.

@@ -55,9 +55,24 @@ struct GridFrame {
     /// Lower plane of cell i on axis a (i == res[a] gives the upper plane of the last cell).
     float plane(int a, uint32_t i) const { return min[a] + float(i) * cell[a]; }
 
+    /// Calls visit(cell, i) for every cell, cell = {x, y, z} and i = index(x, y, z), in the order of
+    /// i (x fastest): the one walk over a frame's cells.
+    template <class Visit>
+    void for_each_cell(Visit&& visit) const {
+        uint32_t cell[3];
+        for (cell[2] = 0; cell[2] < res[2]; ++cell[2])
+            for (cell[1] = 0; cell[1] < res[1]; ++cell[1])
+                for (cell[0] = 0; cell[0] < res[0]; ++cell[0]) visit(cell, index(cell[0], cell[1], cell[2]));
+    }
+
     /// The closed box of cell (x, y, z).
     Aabb cell_box(uint32_t x, uint32_t y, uint32_t z) const {
         const uint32_t c[3] = {x, y, z};
+        return cell_box(c);
+    }
+
+    /// The closed box of cell c = {x, y, z}.
+    Aabb cell_box(const uint32_t c[3]) const {
         Aabb b;
         for (int a = 0; a < 3; ++a) {
             b.min[a] = plane(a, c[a]);

@@ -77,24 +77,20 @@ Grid2Data build_grid2(const P& prims, const Grid2Options& o) {
     // Leaf level: a sub-grid per non-empty top cell, over that cell's primitives.
     g.top.resize(g.frame.cells());
     uint64_t leaf_cells = 0;
-    uint32_t cell[3];
-    for (cell[2] = 0; cell[2] < g.frame.res[2]; ++cell[2])
-        for (cell[1] = 0; cell[1] < g.frame.res[1]; ++cell[1])
-            for (cell[0] = 0; cell[0] < g.frame.res[0]; ++cell[0]) {
-                const uint32_t c = g.frame.index(cell[0], cell[1], cell[2]);
-                const uint32_t count = top.count(c);
-                if (count == 0) continue;
-                const GridResolution r = grid2_sub_resolution(g.frame.cell_box(cell[0], cell[1], cell[2]), count, o);
-                leaf_cells += r.cells();
-                if (leaf_cells > kMaxGridCells)
-                    throw Error("grid2: the sub-grids need more than " + std::to_string(kMaxGridCells) +
-                                " cells (2^26) in all; use a smaller leaf density");
-                TopCell& tc = g.top[c];
-                tc.first_leaf = uint32_t(g.leaves.start.size());
-                for (int a = 0; a < 3; ++a) tc.res[a] = uint8_t(r.n[a]);
-                const std::span<const uint32_t> members(top.refs.data() + top.start[c], count);
-                append_cell_lists(prims, members, g.sub_frame(cell, tc), o.assign, g.leaves, scratch);
-            }
+    g.frame.for_each_cell([&](const uint32_t cell[3], uint32_t c) {
+        const uint32_t count = top.count(c);
+        if (count == 0) return;
+        const GridResolution r = grid2_sub_resolution(g.frame.cell_box(cell), count, o);
+        leaf_cells += r.cells();
+        if (leaf_cells > kMaxGridCells)
+            throw Error("grid2: the sub-grids need more than " + std::to_string(kMaxGridCells) +
+                        " cells (2^26) in all; use a smaller leaf density");
+        TopCell& tc = g.top[c];
+        tc.first_leaf = uint32_t(g.leaves.start.size());
+        for (int a = 0; a < 3; ++a) tc.res[a] = uint8_t(r.n[a]);
+        const std::span<const uint32_t> members(top.refs.data() + top.start[c], count);
+        append_cell_lists(prims, members, g.sub_frame(cell, tc), o.assign, g.leaves, scratch);
+    });
     g.leaves.start.push_back(uint32_t(g.leaves.refs.size()));
     mark_single_cell_references(g.leaves.refs, prims.size());
     return g;

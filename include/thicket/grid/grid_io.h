@@ -1,12 +1,13 @@
 #pragma once
-/// Saved grids (uniform and two-level): payload I/O and the load-time proof. Reading checks the cell lists' structure
-/// (offsets in order and spanning the entries, primitive ids in range and ascending in each cell,
-/// the single-cell marks exactly those the build sets). Adopting them over the primitives pins
-/// the frames to the ones the spec's options give for the scene (for a two-level grid, every
-/// sub-grid's too) and replays the builder's assignment (cells_of, the same code on the same
-/// frames): every cell the builder would give a primitive must list it, so a grid that would miss a primitive is refused. Extra entries only
-/// cost time (a primitive tested where it cannot be hit). The proof costs about what assigning
-/// the primitives to cells costs in a build.
+/// Saved grids (uniform and two-level): payload I/O and the load-time proof. Reading checks the
+/// cell lists' structure (offsets in order and spanning the entries, primitive ids in range and
+/// ascending in each cell, the single-cell marks exactly those the build sets). Adopting them
+/// over the primitives pins the frames to the ones the spec's options give for the scene (for a
+/// two-level grid, every sub-grid's too) and replays the builder's assignment (cells_of, the
+/// same code on the same frames): every cell the builder would give a primitive must list it, so
+/// a grid that would miss a primitive is refused. Extra entries only cost time (a primitive
+/// tested where it cannot be hit). The proof costs about what assigning the primitives to cells
+/// costs in a build.
 #include <algorithm>
 #include <iosfwd>
 #include <span>
@@ -68,6 +69,16 @@ void prove_cells(const P& prims, std::span<const uint32_t> ids, const GridFrame&
     }
 }
 
+/// The frame over `box` at `res`, the resolution the spec's options give for this scene; throws
+/// Error ("invalid <who>: <what> ...") when the saved resolution is another.
+inline GridFrame proved_frame(const Aabb& box, const GridResolution& res, const GridResolution& saved,
+                              const char* who, const char* what) {
+    if (res.n != saved.n)
+        throw Error(std::string("invalid ") + who + ": " + what + " " + saved.str() +
+                    ", where the spec's options give " + res.str() + " for this scene");
+    return GridFrame::make(box, res);
+}
+
 }  // namespace grid_detail
 
 /// The grid `saved` over `prims`, proved to answer like the grid build_grid(prims, o) makes:
@@ -78,11 +89,8 @@ GridData adopt_grid(const P& prims, SavedGrid saved, const GridOptions& o) {
     GridData g;
     g.box = grid_scene_bounds(prims, "grid");
     if (prims.size() == 0) return g;  // read_grid has checked that there are no cells
-    const GridResolution res = grid_resolution(g.box, prims.size(), o);
-    if (res.n != saved.res.n)
-        throw Error("invalid grid: resolution " + saved.res.str() + ", where the spec's options give " + res.str() +
-                    " for this scene");
-    g.frame = GridFrame::make(g.box, res);
+    g.frame =
+        grid_detail::proved_frame(g.box, grid_resolution(g.box, prims.size(), o), saved.res, "grid", "resolution");
     grid_detail::prove_cells(prims, std::span<const uint32_t>(every_primitive(prims.size())), g.frame, o.assign,
                              saved.lists, 0, "grid");
     g.lists = std::move(saved.lists);
@@ -98,32 +106,25 @@ Grid2Data adopt_grid2(const P& prims, SavedGrid2 saved, const Grid2Options& o) {
     Grid2Data g;
     g.box = grid_scene_bounds(prims, "grid2");
     if (prims.size() == 0) return g;  // read_grid2 has checked that there are no cells
-    const GridResolution res = grid2_top_resolution(g.box, prims.size(), o);
-    if (res.n != saved.res.n)
-        throw Error("invalid grid2: top resolution " + saved.res.str() + ", where the spec's options give " +
-                    res.str() + " for this scene");
-    g.frame = GridFrame::make(g.box, res);
+    g.frame = grid_detail::proved_frame(g.box, grid2_top_resolution(g.box, prims.size(), o), saved.res, "grid2",
+                                        "top resolution");
     AssignScratch scratch;
     const CellLists top = assign_every_primitive(prims, g.frame, o.assign, scratch);
-    uint32_t cell[3];
-    for (cell[2] = 0; cell[2] < g.frame.res[2]; ++cell[2])
-        for (cell[1] = 0; cell[1] < g.frame.res[1]; ++cell[1])
-            for (cell[0] = 0; cell[0] < g.frame.res[0]; ++cell[0]) {
-                const uint32_t c = g.frame.index(cell[0], cell[1], cell[2]);
-                const uint32_t count = top.count(c);
-                const TopCell& tc = saved.top[c];
-                GridResolution want{{0, 0, 0}};
-                if (count) want = grid2_sub_resolution(g.frame.cell_box(cell[0], cell[1], cell[2]), count, o);
-                const GridResolution got{{tc.res[0], tc.res[1], tc.res[2]}};
-                if (got.n != want.n)
-                    throw Error("invalid grid2: top cell " + std::to_string(c) + " has a " + got.str() +
-                                " sub-grid, where the builder makes " + want.str() + " for its " +
-                                std::to_string(count) + " primitives");
-                if (count == 0) continue;
-                const std::span<const uint32_t> members(top.refs.data() + top.start[c], count);
-                grid_detail::prove_cells(prims, members, g.sub_frame(cell, tc), o.assign, saved.leaves, tc.first_leaf,
-                                         "grid2");
-            }
+    g.frame.for_each_cell([&](const uint32_t cell[3], uint32_t c) {
+        const uint32_t count = top.count(c);
+        const TopCell& tc = saved.top[c];
+        GridResolution want{{0, 0, 0}};
+        if (count) want = grid2_sub_resolution(g.frame.cell_box(cell), count, o);
+        const GridResolution got{{tc.res[0], tc.res[1], tc.res[2]}};
+        if (got.n != want.n)
+            throw Error("invalid grid2: top cell " + std::to_string(c) + " has a " + got.str() +
+                        " sub-grid, where the builder makes " + want.str() + " for its " + std::to_string(count) +
+                        " primitives");
+        if (count == 0) return;
+        const std::span<const uint32_t> members(top.refs.data() + top.start[c], count);
+        grid_detail::prove_cells(prims, members, g.sub_frame(cell, tc), o.assign, saved.leaves, tc.first_leaf,
+                                 "grid2");
+    });
     g.top = std::move(saved.top);
     g.leaves = std::move(saved.leaves);
     g.top_references = top.refs.size();

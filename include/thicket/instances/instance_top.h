@@ -32,6 +32,11 @@ struct InstanceBottom {
     const bvh8::TraceContext* ctx = nullptr;  ///< null: call accel
     bvh8::ClosestFn closest[2] = {nullptr, nullptr};
     bvh8::AnyFn any[2] = {nullptr, nullptr};
+
+    /// The nearest hit of `local` (a ray in this level's space), counted into *counters when given.
+    Hit closest_hit(const Ray& local, RayCounters* counters) const;
+    /// Whether `local` hits anything within its interval, counted into *counters when given.
+    bool any_hit(const Ray& local, RayCounters* counters) const;
 };
 
 /// The bottom-level call of `accel`: its kernels when it is a triangle bvh8 with nodes, else the
