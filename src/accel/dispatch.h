@@ -16,7 +16,6 @@
 #include "thicket/prims/mixed.h"
 #include "thicket/prims/primitive_set.h"
 #include "thicket/prims/triangles.h"
-#include "thicket/prims/triangles_double.h"
 
 namespace thicket {
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "thicket/core/vec3d.h"
+#include "thicket/core/vec3.h"
 #include "thicket/scene/instance.h"
 
 namespace thicket {

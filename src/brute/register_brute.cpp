@@ -1,6 +1,5 @@
 #include "accel/dispatch.h"
 #include "thicket/brute/brute_force.h"
-#include "thicket/brute/brute_force_double.h"
 
 namespace thicket {
 
@@ -14,7 +13,7 @@ void register_brute(std::vector<AccelInfo>& registry) {
     info.build = [](const Scene& scene, const AccelSpec& spec) -> std::unique_ptr<Accel> {
         if (wants_double(spec))
             return with_double_triangles(scene, spec, [](auto prims) -> std::unique_ptr<Accel> {
-                return std::make_unique<BruteForceD<decltype(prims)::kTest>>(std::move(prims));
+                return std::make_unique<BruteForce<decltype(prims)>>(std::move(prims));
             });
         return make_structure<BruteForce>(scene, spec);
     };

@@ -29,16 +29,16 @@
 
 #include "thicket/core/error.h"
 #include "thicket/core/ray_box.h"
-#include "thicket/core/vec3d.h"
+#include "thicket/core/vec3.h"
 
 namespace thicket {
 namespace {
 
-// The patch's arithmetic in double (core/vec3d.h); the two helpers it adds:
-inline DVec3 mid(DVec3 a, DVec3 b) { return {0.5 * (a.x + b.x), 0.5 * (a.y + b.y), 0.5 * (a.z + b.z)}; }
-inline double xy_len(DVec3 a) { return std::sqrt(a.x * a.x + a.y * a.y); }  // not hypot: 10x slower
+// The patch's arithmetic in double (Vec3d, core/vec3.h); the two helpers it adds:
+inline Vec3d mid(Vec3d a, Vec3d b) { return {0.5 * (a.x + b.x), 0.5 * (a.y + b.y), 0.5 * (a.z + b.z)}; }
+inline double xy_len(Vec3d a) { return std::sqrt(a.x * a.x + a.y * a.y); }  // not hypot: 10x slower
 
-using Grid = std::array<DVec3, 16>;  // 4 * j + i, as BezierPatch::ControlPoints
+using Grid = std::array<Vec3d, 16>;  // 4 * j + i, as BezierPatch::ControlPoints
 
 /// Cubic Bernstein basis, its first and second derivatives at t.
 struct Basis {
@@ -61,7 +61,7 @@ struct Basis {
 };
 
 struct GridSample {
-    DVec3 p, du, dv, duv;
+    Vec3d p, du, dv, duv;
 };
 
 GridSample evaluate_grid(const Grid& g, double u, double v) {
@@ -69,7 +69,7 @@ GridSample evaluate_grid(const Grid& g, double u, double v) {
     GridSample s;
     for (int j = 0; j < 4; ++j)
         for (int i = 0; i < 4; ++i) {
-            const DVec3 c = g[4 * j + i];
+            const Vec3d c = g[4 * j + i];
             s.p = s.p + c * (bu.b[i] * bv.b[j]);
             s.du = s.du + c * (bu.db[i] * bv.b[j]);
             s.dv = s.dv + c * (bu.b[i] * bv.db[j]);
@@ -83,9 +83,9 @@ GridSample evaluate_grid(const Grid& g, double u, double v) {
 void split(const Grid& g, int stride, int step, Grid& lo, Grid& hi) {
     for (int k = 0; k < 4; ++k) {
         const int b = k * step;
-        const DVec3 p0 = g[b], p1 = g[b + stride], p2 = g[b + 2 * stride], p3 = g[b + 3 * stride];
-        const DVec3 p01 = mid(p0, p1), p12 = mid(p1, p2), p23 = mid(p2, p3);
-        const DVec3 p012 = mid(p01, p12), p123 = mid(p12, p23), m = mid(p012, p123);
+        const Vec3d p0 = g[b], p1 = g[b + stride], p2 = g[b + 2 * stride], p3 = g[b + 3 * stride];
+        const Vec3d p01 = mid(p0, p1), p12 = mid(p1, p2), p23 = mid(p2, p3);
+        const Vec3d p012 = mid(p01, p12), p123 = mid(p12, p23), m = mid(p012, p123);
         lo[b] = p0, lo[b + stride] = p01, lo[b + 2 * stride] = p012, lo[b + 3 * stride] = m;
         hi[b] = m, hi[b + stride] = p123, hi[b + 2 * stride] = p23, hi[b + 3 * stride] = p3;
     }
@@ -308,23 +308,23 @@ bool intersect_counted(const BezierPatch& patch, const Ray& ray, float tmax, Sha
     const Aabb box = patch.bounds();
     if (ray_box_entry(RayBoxQuery(ray), box, ray.tmin, tmax) == kInfinity) return false;
 
-    const DVec3 o = DVec3(ray.org), d = DVec3(ray.dir);
+    const Vec3d o = Vec3d(ray.org), d = Vec3d(ray.dir);
     const double len2 = dot(d, d), len = std::sqrt(len2);
     if (!(len2 > 0.0) || !std::isfinite(len2)) return false;
-    const DVec3 n = d * (1.0 / len);
+    const Vec3d n = d * (1.0 / len);
     // Two unit vectors perpendicular to the ray, from its largest components (no cancellation).
-    const DVec3 e1 = std::fabs(n.x) > std::fabs(n.y) ? DVec3{-n.z, 0.0, n.x} * (1.0 / std::sqrt(n.x * n.x + n.z * n.z))
-                                                  : DVec3{0.0, n.z, -n.y} * (1.0 / std::sqrt(n.y * n.y + n.z * n.z));
-    const DVec3 e2 = cross(n, e1);
+    const Vec3d e1 = std::fabs(n.x) > std::fabs(n.y) ? Vec3d{-n.z, 0.0, n.x} * (1.0 / std::sqrt(n.x * n.x + n.z * n.z))
+                                                  : Vec3d{0.0, n.z, -n.y} * (1.0 / std::sqrt(n.y * n.y + n.z * n.z));
+    const Vec3d e2 = cross(n, e1);
     Grid g;
     for (int k = 0; k < 16; ++k) {
-        const DVec3 w = DVec3(patch.control_points()[k]) - o;
+        const Vec3d w = Vec3d(patch.control_points()[k]) - o;
         g[k] = {dot(e1, w), dot(e2, w), dot(d, w) / len2};
     }
     const Vec3 ext = box.extent();
     const double size = std::max({double(ext.x), double(ext.y), double(ext.z)});
     if (!(size > 0.0)) return false;  // all control points coincide: no area
-    const double offset = length(DVec3(box.center()) - o) + size;
+    const double offset = length(Vec3d(box.center()) - o) + size;
     // Roots that round to the float window's ends count: the window in double reaches half an ulp
     // beyond them (a structure passes its closest hit so far, a float, as tmax).
     const double tmin_d = ray.tmin > 0.0f ? 0.5 * (double(ray.tmin) + double(std::nextafter(ray.tmin, 0.0f))) : double(ray.tmin);
@@ -341,25 +341,25 @@ bool BezierPatch::intersect(const Ray& ray, float tmax, ShapeHit& hit) const {
 
 BezierSample BezierPatch::evaluate(float u, float v) const {
     Grid g;
-    for (int k = 0; k < 16; ++k) g[k] = DVec3(cp_[k]);
+    for (int k = 0; k < 16; ++k) g[k] = Vec3d(cp_[k]);
     const GridSample s = evaluate_grid(g, u, v);
-    auto f = [](DVec3 a) { return Vec3(float(a.x), float(a.y), float(a.z)); };
+    auto f = [](Vec3d a) { return Vec3(float(a.x), float(a.y), float(a.z)); };
     return {f(s.p), f(s.du), f(s.dv)};
 }
 
 Vec3 BezierPatch::normal(Vec3, float uf, float vf) const {
     Grid g;
-    for (int k = 0; k < 16; ++k) g[k] = DVec3(cp_[k]);
+    for (int k = 0; k < 16; ++k) g[k] = Vec3d(cp_[k]);
     const double u = std::clamp(double(uf), 0.0, 1.0), v = std::clamp(double(vf), 0.0, 1.0);
     const Vec3 ext = bounds_.extent();
     const double size = std::max({double(ext.x), double(ext.y), double(ext.z)});
     const double tiny = 1e-10 * size * size;  // |n| below this is rounding noise
-    auto unit = [](DVec3 a) {
+    auto unit = [](Vec3d a) {
         const double l = length(a);
         return Vec3(float(a.x / l), float(a.y / l), float(a.z / l));
     };
     const GridSample s = evaluate_grid(g, u, v);
-    DVec3 n = cross(s.du, s.dv);
+    Vec3d n = cross(s.du, s.dv);
     if (length(n) > tiny) return unit(n);
     // A collapsed edge: along it one partial vanishes, and near it that partial grows linearly
     // with the distance from the edge, so the normal's limit is the mixed partial crossed with

@@ -49,7 +49,7 @@ RayBatchD make_rays(const RayRowsD& rows, unsigned threads) {
             std::copy(row, row + 6, r);
             r[6] = rows.width == 8 ? row[6] : rows.tmin;
             r[7] = rows.width == 8 ? row[7] : rows.tmax;
-            batch.valid[i] = make_ray_double(r, batch.rays[i]) ? 1 : 0;
+            batch.valid[i] = make_ray(r, batch.rays[i]) ? 1 : 0;
         }
     });
     return batch;

@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "thicket/core/vec3d.h"
+#include "thicket/core/vec3.h"
 
 namespace thicket {
 

@@ -29,7 +29,9 @@ found=$(awk '
     vex = (m ~ /^v/ && m !~ /^(verr|verw|vm(call|clear|launch|ptrld|ptrst|read|resume|write|xoff|xon|func|run|load|save|mcall))$/)
     if (vex || line ~ /%[yz]mm[0-9]/ || line ~ /%k[0-7]/) {
       name = fn; gsub(/\(anonymous namespace\)/, "anon", name)
-      head = name; sub(/[(<].*/, "", head); k = split(head, parts, " "); q = parts[k]
+      # The qualified name: template arguments dropped (innermost first, so that a template
+      # return type such as HitT<float> goes too), then the parameters, then the return type.
+      head = name; while (gsub(/<[^<>]*>/, "", head)) {}; sub(/\(.*/, "", head); k = split(head, parts, " "); q = parts[k]
       if (q !~ /^thicket::bvh8_avx(2|512)::/) { print fn " :: " m; flagged = 1 }
     }
   }' "${TMPDIR:-/tmp}/bvh8-isa-$$.txt")

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "support/cli_dir_test.h"
-#include "thicket/core/vec3d.h"
+#include "thicket/core/vec3.h"
 #include "thicket/scene/scene.h"
 #include "thicket/scene/translate.h"
 

@@ -5,7 +5,7 @@
 
 namespace thicket::testing {
 
-std::vector<double> roots_by_sampling(const Implicit& f, DVec3 org, DVec3 dir, double t0, double t1, size_t samples) {
+std::vector<double> roots_by_sampling(const Implicit& f, Vec3d org, Vec3d dir, double t0, double t1, size_t samples) {
     std::vector<double> roots;
     if (!(t1 >= t0) || samples < 1) return roots;
     auto at = [&](double t) { return f(org + dir * t); };
@@ -41,7 +41,7 @@ std::vector<double> roots_by_sampling(const Implicit& f, DVec3 org, DVec3 dir, d
     return roots;
 }
 
-std::optional<std::pair<double, double>> ray_box_interval(DVec3 org, DVec3 dir, const Aabb& box, double pad) {
+std::optional<std::pair<double, double>> ray_box_interval(Vec3d org, Vec3d dir, const Aabb& box, double pad) {
     double t0 = -INFINITY, t1 = INFINITY;
     for (int a = 0; a < 3; ++a) {
         const double lo = double(box.min[a]) - pad, hi = double(box.max[a]) + pad;
@@ -59,7 +59,7 @@ std::optional<std::pair<double, double>> ray_box_interval(DVec3 org, DVec3 dir, 
 }
 
 std::optional<double> first_root(const Implicit& f, const Ray& ray, const Aabb& bounds, size_t samples) {
-    const DVec3 o(ray.org), d(ray.dir);
+    const Vec3d o(ray.org), d(ray.dir);
     const double pad = 1e-3 * max_component(bounds.extent());
     const auto span = ray_box_interval(o, d, bounds, pad);
     if (!span) return std::nullopt;
@@ -70,8 +70,8 @@ std::optional<double> first_root(const Implicit& f, const Ray& ray, const Aabb& 
     return std::nullopt;
 }
 
-double torus_distance(const DVec3& p, const DVec3& center, const DVec3& axis, double R, double r) {
-    const DVec3 q = p - center;
+double torus_distance(const Vec3d& p, const Vec3d& center, const Vec3d& axis, double R, double r) {
+    const Vec3d q = p - center;
     const double y = dot(q, axis);
     const double rho = length(q - axis * y);
     return std::hypot(rho - R, y) - r;

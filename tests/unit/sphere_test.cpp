@@ -84,11 +84,11 @@ void check_case(const Case& c, uint32_t seed) {
         EXPECT_GE(h.v, 0.0f);
         EXPECT_LE(h.v, 1.0f);
         // The normal from (u, v) is (p - c) / r at the exact hit point.
-        const DVec3 p = DVec3(ray.org) + DVec3(ray.dir) * *want;
-        const DVec3 n_exact = (p - DVec3(c.center)) / double(c.radius);
+        const Vec3d p = Vec3d(ray.org) + Vec3d(ray.dir) * *want;
+        const Vec3d n_exact = (p - Vec3d(c.center)) / double(c.radius);
         const Vec3 n = s.normal(ray.org + ray.dir * h.t, h.u, h.v);
         EXPECT_NEAR(length(n), 1.0f, 1e-6f);
-        EXPECT_NEAR(dot(DVec3(n), n_exact), 1.0, 1e-6) << "ray " << i;
+        EXPECT_NEAR(dot(Vec3d(n), n_exact), 1.0, 1e-6) << "ray " << i;
     }
     EXPECT_GT(hits, 1000);
 }

@@ -33,12 +33,12 @@ struct Family {
 /// Rays of every family for torus t (frame e1, e2, axis a as the kernel's).
 std::vector<Family> ray_families(const Torus& t, std::mt19937& rng) {
     std::uniform_real_distribution<double> u01(0.0, 1.0);
-    const DVec3 c(t.center), a = t.unit_axis();
-    DVec3 e1, e2;
+    const Vec3d c(t.center), a = t.unit_axis();
+    Vec3d e1, e2;
     Torus::frame(a, e1, e2);
     const double R = t.major, r = t.minor, reach = R + r;
     auto radial = [&](double phi) { return e1 * std::cos(phi) + e2 * std::sin(phi); };
-    auto ray = [](DVec3 o, DVec3 d) { return Ray{o.to_float(), 0.0f, d.to_float(), kInfinity}; };
+    auto ray = [](Vec3d o, Vec3d d) { return Ray{o.to_float(), 0.0f, d.to_float(), kInfinity}; };
     // 60 rays per family keep the unit suite fast; docs/shapes.md's 100,800-ray figure is
     // THICKET_TORUS_RAYS_PER_FAMILY=700 with the same seeds.
     const char* env = std::getenv("THICKET_TORUS_RAYS_PER_FAMILY");
@@ -48,16 +48,16 @@ std::vector<Family> ray_families(const Torus& t, std::mt19937& rng) {
     f.push_back({"random", {}});
     const Aabb b = t.bounds();
     for (int i = 0; i < n; ++i) {
-        const DVec3 o = c + DVec3(random_unit_vector(rng)) * (3.0 * reach * (0.5 + u01(rng)));
-        const DVec3 target(b.min.x + (b.max.x - b.min.x) * float(u01(rng)), b.min.y + (b.max.y - b.min.y) * float(u01(rng)),
+        const Vec3d o = c + Vec3d(random_unit_vector(rng)) * (3.0 * reach * (0.5 + u01(rng)));
+        const Vec3d target(b.min.x + (b.max.x - b.min.x) * float(u01(rng)), b.min.y + (b.max.y - b.min.y) * float(u01(rng)),
                            b.min.z + (b.max.z - b.min.z) * float(u01(rng)));
         f.back().rays.push_back(ray(o, target - o));
     }
     f.push_back({"through the hole", {}});
     for (int i = 0; i < n; ++i) {
         const double side = i % 2 ? 1.0 : -1.0;
-        const DVec3 o = c + a * (side * 3.0 * reach) + radial(kTwoPi * u01(rng)) * ((R - r) * 1.1 * u01(rng));
-        const DVec3 d = a * -side + DVec3(random_unit_vector(rng)) * (0.2 * u01(rng));
+        const Vec3d o = c + a * (side * 3.0 * reach) + radial(kTwoPi * u01(rng)) * ((R - r) * 1.1 * u01(rng));
+        const Vec3d d = a * -side + Vec3d(random_unit_vector(rng)) * (0.2 * u01(rng));
         f.back().rays.push_back(ray(o, d));
     }
     // Offsets from exact tangency, inward (two close roots) and outward (a miss), down to 1e-7 r.
@@ -65,32 +65,32 @@ std::vector<Family> ray_families(const Torus& t, std::mt19937& rng) {
     f.push_back({"grazing the outer equator", {}, true});
     for (int i = 0; i < n; ++i) {
         const double phi = kTwoPi * u01(rng), delta = offsets[i % 8] * r;
-        const DVec3 p = c + radial(phi) * (R + r - delta);
-        const DVec3 tangent = (i / 8) % 2 ? a : radial(phi + kTwoPi / 4);  // along the tube or around the ring
+        const Vec3d p = c + radial(phi) * (R + r - delta);
+        const Vec3d tangent = (i / 8) % 2 ? a : radial(phi + kTwoPi / 4);  // along the tube or around the ring
         f.back().rays.push_back(ray(p - tangent * (4.0 * reach), tangent));
     }
     f.push_back({"grazing the top circle", {}, true});
     for (int i = 0; i < n; ++i) {
         const double phi = kTwoPi * u01(rng), delta = offsets[i % 8] * r;
-        const DVec3 p = c + radial(phi) * R + a * (r - delta);
-        const DVec3 tangent = radial(phi + kTwoPi / 4);
+        const Vec3d p = c + radial(phi) * R + a * (r - delta);
+        const Vec3d tangent = radial(phi + kTwoPi / 4);
         f.back().rays.push_back(ray(p - tangent * (4.0 * reach), tangent));
     }
     f.push_back({"grazing the inner equator", {}, true});
     for (int i = 0; i < n; ++i) {
         const double phi = kTwoPi * u01(rng), delta = offsets[i % 8] * r;
-        const DVec3 p = c + radial(phi) * (R - r - delta);
-        const DVec3 tangent = radial(phi + kTwoPi / 4);
+        const Vec3d p = c + radial(phi) * (R - r - delta);
+        const Vec3d tangent = radial(phi + kTwoPi / 4);
         f.back().rays.push_back(ray(p - tangent * (4.0 * reach), tangent));
     }
     f.push_back({"silhouettes", {}, true});
     for (int i = 0; i < n; ++i) {
-        const DVec3 o = c + DVec3(random_unit_vector(rng)) * (3.0 * reach);
-        DVec3 in = c + radial(kTwoPi * u01(rng)) * R;  // on the tube's centre circle: a hit
-        DVec3 out = in + DVec3(random_unit_vector(rng)) * (3.0 * reach);
+        const Vec3d o = c + Vec3d(random_unit_vector(rng)) * (3.0 * reach);
+        Vec3d in = c + radial(kTwoPi * u01(rng)) * R;  // on the tube's centre circle: a hit
+        Vec3d out = in + Vec3d(random_unit_vector(rng)) * (3.0 * reach);
         ShapeHit h;
         for (int k = 0; k < 50; ++k) {
-            const DVec3 mid = (in + out) * 0.5;
+            const Vec3d mid = (in + out) * 0.5;
             (t.intersect(ray(o, mid - o), kInfinity, h) ? in : out) = mid;
         }
         f.back().rays.push_back(ray(o, (i % 2 ? in : out) - o));
@@ -98,19 +98,19 @@ std::vector<Family> ray_families(const Torus& t, std::mt19937& rng) {
     f.push_back({"inside the tube", {}});
     for (int i = 0; i < n; ++i) {
         const double phi = kTwoPi * u01(rng), psi = kTwoPi * u01(rng), rho = 0.95 * r * u01(rng);
-        const DVec3 o = c + radial(phi) * (R + rho * std::cos(psi)) + a * (rho * std::sin(psi));
-        f.back().rays.push_back(ray(o, DVec3(random_unit_vector(rng))));
+        const Vec3d o = c + radial(phi) * (R + rho * std::cos(psi)) + a * (rho * std::sin(psi));
+        f.back().rays.push_back(ray(o, Vec3d(random_unit_vector(rng))));
     }
     f.push_back({"far away", {}});
     for (int i = 0; i < n; ++i) {
-        const DVec3 o = c + DVec3(random_unit_vector(rng)) * (1e4 * reach);
-        const DVec3 target = c + radial(kTwoPi * u01(rng)) * (R + r * (2 * u01(rng) - 1));
+        const Vec3d o = c + Vec3d(random_unit_vector(rng)) * (1e4 * reach);
+        const Vec3d target = c + radial(kTwoPi * u01(rng)) * (R + r * (2 * u01(rng) - 1));
         f.back().rays.push_back(ray(o, target - o));
     }
     f.push_back({"along the axis", {}});
     for (int i = 0; i < n; ++i) {
         const double rho = (i % 3 == 0) ? 0.0 : R + r * (2 * u01(rng) - 1) * 1.05;
-        const DVec3 o = c + radial(kTwoPi * u01(rng)) * rho - a * (3.0 * reach);
+        const Vec3d o = c + radial(kTwoPi * u01(rng)) * rho - a * (3.0 * reach);
         f.back().rays.push_back(ray(o, i % 2 ? a : a * 2.5));
     }
     return f;
@@ -139,9 +139,9 @@ TEST(Torus, MatchesDenselySampledDistanceOnEveryRayFamily) {
     size_t rays = 0, hits = 0, extra = 0, tangent = 0;
     double worst = 0.0;  // largest |t - reference| along the ray, in units of R
     for (const Torus& t : test_tori(rng)) {
-        const DVec3 c(t.center), a = t.unit_axis();
+        const Vec3d c(t.center), a = t.unit_axis();
         const double R = t.major, r = t.minor;
-        const testing::Implicit sdf = [&](const DVec3& p) { return torus_distance(p, c, a, R, r); };
+        const testing::Implicit sdf = [&](const Vec3d& p) { return torus_distance(p, c, a, R, r); };
         for (const Family& fam : ray_families(t, rng)) {
             SCOPED_TRACE("torus R " + std::to_string(R) + " r " + std::to_string(r) + ", " + fam.name);
             for (size_t i = 0; i < fam.rays.size(); ++i) {
@@ -150,7 +150,7 @@ TEST(Torus, MatchesDenselySampledDistanceOnEveryRayFamily) {
                 // The reference's crossings in the window; chords shallower than 1e-11 R (a ray
                 // tangent to within rounding: the float ray's own rounding decides) may be skipped.
                 std::vector<double> want;
-                const DVec3 o(ray.org), dir(ray.dir);
+                const Vec3d o(ray.org), dir(ray.dir);
                 if (const auto span = testing::ray_box_interval(o, dir, t.bounds(), 1e-3 * (R + r)))
                     for (double root : testing::roots_by_sampling(sdf, o, dir, std::max(span->first, 0.0), span->second, 4000))
                         if (float(root) >= ray.tmin) want.push_back(root);
@@ -164,7 +164,7 @@ TEST(Torus, MatchesDenselySampledDistanceOnEveryRayFamily) {
                 size_t first = 0;
                 ShapeHit h;
                 const bool got = t.intersect(ray, ray.tmax, h);
-                const double dlen = length(DVec3(ray.dir));
+                const double dlen = length(Vec3d(ray.dir));
                 const double tol = 1e-5 * R + 1e-6 * std::fabs(double(h.t)) * dlen;  // float t: 6e-8 of the distance
                 // Skip the reference's rounding-deep chords that the kernel did not report.
                 while (first < want.size() && (!got || std::fabs(double(h.t) - want[first]) * dlen > tol) && shallow(first)) {
@@ -180,7 +180,7 @@ TEST(Torus, MatchesDenselySampledDistanceOnEveryRayFamily) {
                     // must be on the surface, and only where the ray grazes.
                     ++extra;
                     EXPECT_TRUE(fam.grazing) << "a root the reference missed on a ray not built to graze, ray " << i;
-                    const DVec3 p = DVec3(ray.org) + DVec3(ray.dir) * double(h.t);
+                    const Vec3d p = Vec3d(ray.org) + Vec3d(ray.dir) * double(h.t);
                     ASSERT_LE(std::fabs(sdf(p)), tol) << "a hit off the surface, ray " << i;
                 }
                 if (!got) continue;
@@ -193,13 +193,13 @@ TEST(Torus, MatchesDenselySampledDistanceOnEveryRayFamily) {
                 // Normal: the distance gradient at the hit point.
                 // At the reference's root where there is one: the float t is 6e-8 of the distance off.
                 const double t_exact = first < want.size() ? want[first] : double(h.t);
-                const DVec3 p = DVec3(ray.org) + DVec3(ray.dir) * t_exact;
-                const DVec3 q = p - c;
-                const DVec3 w = q - a * dot(q, a);
-                const DVec3 grad = normalize(q - normalize(w) * R);
+                const Vec3d p = Vec3d(ray.org) + Vec3d(ray.dir) * t_exact;
+                const Vec3d q = p - c;
+                const Vec3d w = q - a * dot(q, a);
+                const Vec3d grad = normalize(q - normalize(w) * R);
                 const Vec3 n = t.normal(p.to_float(), h.u, h.v);
                 EXPECT_NEAR(length(n), 1.0f, 1e-6f);
-                EXPECT_GT(dot(DVec3(n), grad), 1.0 - 1e-5) << "ray " << i;
+                EXPECT_GT(dot(Vec3d(n), grad), 1.0 - 1e-5) << "ray " << i;
                 // The root does not depend on the window: tmax = t keeps it, bit for bit.
                 ShapeHit again;
                 ASSERT_TRUE(t.intersect(ray, h.t, again));
@@ -259,14 +259,14 @@ TEST(Torus, BoundsAreTightAndEnclosing) {
     // A tilted torus: sample its surface, every point lies inside.
     const Torus tilted{{-4, 0, 1e4f}, normalize(Vec3{1, 2, -2}), 3.0f, 1.0f};
     b = tilted.bounds();
-    DVec3 e1, e2;
-    const DVec3 a = tilted.unit_axis();
+    Vec3d e1, e2;
+    const Vec3d a = tilted.unit_axis();
     Torus::frame(a, e1, e2);
     for (int i = 0; i < 64; ++i)
         for (int j = 0; j < 64; ++j) {
             const double phi = kTwoPi * i / 64, psi = kTwoPi * j / 64;
-            const DVec3 radial = e1 * std::cos(phi) + e2 * std::sin(phi);
-            const DVec3 p = DVec3(tilted.center) + radial * (3.0 + std::cos(psi)) + a * std::sin(psi);
+            const Vec3d radial = e1 * std::cos(phi) + e2 * std::sin(phi);
+            const Vec3d p = Vec3d(tilted.center) + radial * (3.0 + std::cos(psi)) + a * std::sin(psi);
             for (int k = 0; k < 3; ++k) {
                 EXPECT_LE(double(b.min[k]), p[k]);
                 EXPECT_GE(double(b.max[k]), p[k]);

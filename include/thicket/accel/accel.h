@@ -168,7 +168,7 @@ public:
     /// Closest hit of a double-precision ray within [ray.tmin, ray.tmax]. Answered by structures
     /// with double_precision() only: the others throw Error naming the spec and saying to build
     /// with `precision=double` (a float structure would round the ray and lose what it is for).
-    /// The ray must be meaningful (make_ray_double()).
+    /// The ray must be meaningful (make_ray()).
     virtual HitD intersect_double(const RayD& ray) const;
     /// Is anything hit within [ray.tmin, ray.tmax]? Same contract as intersect_double().
     virtual bool occluded_double(const RayD& ray) const;

@@ -22,7 +22,7 @@
 #include <optional>
 
 #include "thicket/core/ray.h"
-#include "thicket/core/vec3d.h"
+#include "thicket/core/vec3.h"
 #include "thicket/scene/scene.h"
 
 namespace thicket {

@@ -1,25 +1,47 @@
 #pragma once
 /// The brute-force reference: tests every primitive. Every other structure is checked against it.
+/// Over a double set (`brute:precision=double`, TrianglesD) it is the reference the double BVH is
+/// checked against: every triangle tested with double vertices and ray arithmetic.
 #include <algorithm>
+#include <type_traits>
 #include <vector>
 
 #include "thicket/accel/accel.h"
+#include "thicket/accel/accel_double.h"
 #include "thicket/prims/primitive_set.h"
 
 namespace thicket {
 
-template <PrimitiveSet Prims>
-class BruteForce final : public AccelBase<BruteForce<Prims>> {
+template <class Prims>
+class BruteForce;
+
+/// AccelBase for a float set, AccelBaseD (rays widened, hits rounded) for a double one.
+template <class Prims>
+using BruteForceBase = std::conditional_t<kDoublePrimitives<Prims>, AccelBaseD<BruteForce<Prims>>,
+                                          AccelBase<BruteForce<Prims>>>;
+
+/// Over a PrimitiveSet, or a set in double (kDoublePrimitives).
+template <class Prims>
+class BruteForce final : public BruteForceBase<Prims> {
+    static constexpr bool kDouble = kDoublePrimitives<Prims>;
+    static_assert(kDouble || PrimitiveSet<Prims>);
+    using S = std::conditional_t<kDouble, double, float>;
+
 public:
     explicit BruteForce(Prims prims) : prims_(std::move(prims)) {
         for (uint32_t i = 0; i < prims_.size(); ++i) bounds_.grow(prims_.bounds(i));
     }
 
-    Aabb bounds() const override { return bounds_; }
+    Aabb bounds() const override {
+        if constexpr (kDouble)
+            return outward_float_box(bounds_);
+        else
+            return bounds_;
+    }
 
     template <class C>
-    Hit closest(const Ray& ray, C& counters) const {
-        Hit hit = miss_for(ray);
+    HitT<S> closest(const RayT<S>& ray, C& counters) const {
+        HitT<S> hit = miss_for(ray);
         for (uint32_t i = 0, n = uint32_t(prims_.size()); i < n; ++i) {
             counters.prim();
             prims_.intersect(i, ray, hit);
@@ -28,7 +50,7 @@ public:
     }
 
     template <class C>
-    bool any(const Ray& ray, C& counters) const {
+    bool any(const RayT<S>& ray, C& counters) const {
         for (uint32_t i = 0, n = uint32_t(prims_.size()); i < n; ++i) {
             counters.prim();
             if (prims_.occludes(i, ray)) return true;
@@ -40,21 +62,26 @@ public:
 
     /// The reference of all_hits: every root of every primitive (a primitive asked again from just
     /// past each of its roots, as a sphere has two), sorted by t, then merged into crossings by
-    /// the rule the default implementation follows (Accel::all_hits, kSameCrossing).
+    /// the rule the default implementation follows (Accel::all_hits, kSameCrossing). A double set
+    /// takes that default implementation itself.
     void all_hits(const Ray& ray, std::vector<Hit>& out) const override {
-        std::vector<Hit> roots;
-        for (uint32_t i = 0, n = uint32_t(prims_.size()); i < n; ++i) {
-            Ray rest = ray;
-            for (;;) {
-                Hit hit = miss_for(rest);
-                if (!prims_.intersect(i, rest, hit)) break;
-                roots.push_back(hit);
-                const float next = next_crossing_t(hit.t);  // as Accel::all_hits steps
-                if (!(next > rest.tmin) || !(next <= rest.tmax) || !std::isfinite(next)) break;
-                rest.tmin = next;
+        if constexpr (kDouble) {
+            Accel::all_hits(ray, out);
+        } else {
+            std::vector<Hit> roots;
+            for (uint32_t i = 0, n = uint32_t(prims_.size()); i < n; ++i) {
+                Ray rest = ray;
+                for (;;) {
+                    Hit hit = miss_for(rest);
+                    if (!prims_.intersect(i, rest, hit)) break;
+                    roots.push_back(hit);
+                    const float next = next_crossing_t(hit.t);  // as Accel::all_hits steps
+                    if (!(next > rest.tmin) || !(next <= rest.tmax) || !std::isfinite(next)) break;
+                    rest.tmin = next;
+                }
             }
+            merge_crossings(roots, &out);
         }
-        merge_crossings(roots, &out);
     }
 
     /// The reference of closest_point: every primitive, the lowest id among equally close ones.
@@ -84,7 +111,7 @@ public:
 
 private:
     Prims prims_;
-    Aabb bounds_;
+    AabbT<S> bounds_;
 };
 
 }  // namespace thicket

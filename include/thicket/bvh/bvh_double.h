@@ -11,7 +11,7 @@
 #include "thicket/bvh/build.h"
 #include "thicket/bvh/traversal.h"
 #include "thicket/core/aligned.h"
-#include "thicket/prims/triangles_double.h"
+#include "thicket/prims/triangles.h"
 
 namespace thicket {
 

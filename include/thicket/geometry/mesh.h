@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "thicket/core/aabb.h"
-#include "thicket/core/vec3d.h"
+#include "thicket/core/vec3.h"
 
 namespace thicket {
 

@@ -26,7 +26,7 @@
 namespace thicket {
 
 /// The kernels' one double 3-vector (shape_util.h), under the name the implicit code uses.
-using Vec3d = DVec3;
+using Vec3d = Vec3d;
 
 /// An axis-aligned box in an implicit surface's own (object) coordinates.
 struct Box3d {

@@ -41,4 +41,12 @@ Aabb clipped_bounds(const P& prims, uint32_t i, const Aabb& box) {
 template <class P>
 inline constexpr bool kHasTriangles = requires(const P& p, uint32_t i) { p.triangle(i); };
 
+/// Whether the set answers rays in double (TrianglesD, whose boxes are AabbD): what the
+/// `precision=double` structures hold. Such a set models PrimitiveSet's requirements with
+/// RayD, HitD, AabbD and Vec3d in place of the float types.
+template <class P>
+inline constexpr bool kDoublePrimitives = requires(const P& p, uint32_t i) {
+    { p.bounds(i) } -> std::same_as<AabbD>;
+};
+
 }  // namespace thicket

@@ -8,7 +8,7 @@
 #include <utility>
 
 #include "thicket/core/aabb.h"
-#include "thicket/core/vec3d.h"
+#include "thicket/core/vec3.h"
 
 namespace thicket {
 
@@ -24,7 +24,7 @@ inline float turn_fraction(double angle) {
 
 /// The float box enclosing the double box [lo, hi]: each bound is rounded outward, so a surface
 /// computed in double never pokes out of its float bounds (c + r in float can round inward).
-inline Aabb outward_box(DVec3 lo, DVec3 hi) {
+inline Aabb outward_box(Vec3d lo, Vec3d hi) {
     Aabb b;
     for (int k = 0; k < 3; ++k) {
         const float l = float(lo[k]), h = float(hi[k]);

@@ -22,20 +22,20 @@ struct Sphere {
     float radius = 1.0f;
 
     Aabb bounds() const {
-        const DVec3 c(center);
+        const Vec3d c(center);
         const double r = radius;
-        return outward_box(c - DVec3(r, r, r), c + DVec3(r, r, r));
+        return outward_box(c - Vec3d(r, r, r), c + Vec3d(r, r, r));
     }
 
     /// First crossing with t in [ray.tmin, tmax]. The roots depend on the ray alone, never on
     /// the window, so every structure gets bit-identical answers to brute force.
     bool intersect(const Ray& ray, float tmax, ShapeHit& hit) const {
-        const DVec3 d(ray.dir), f = DVec3(ray.org) - DVec3(center);
+        const Vec3d d(ray.dir), f = Vec3d(ray.org) - Vec3d(center);
         const double a = dot(d, d);
         if (!(a > 0.0)) return false;
         const double r = radius;
         const double b = -dot(f, d);              // a * (parameter of the closest approach)
-        const DVec3 l = f + d * (b / a);          // centre to the closest point of the line
+        const Vec3d l = f + d * (b / a);          // centre to the closest point of the line
         const double disc = r * r - dot(l, l);    // (half chord)^2: no cancellation of b^2 - ac
         if (!(disc >= 0.0)) return false;
         const double q = b + std::copysign(std::sqrt(a * disc), b);
@@ -64,7 +64,7 @@ struct Sphere {
     /// lost the sphere (a tiny sphere far from the origin).
     Vec3 normal(Vec3, float u, float v) const {
         const double phi = kTwoPi * u, theta = kTwoPi / 2 * v;
-        return DVec3(std::sin(theta) * std::cos(phi), std::cos(theta), -std::sin(theta) * std::sin(phi)).to_float();
+        return Vec3d(std::sin(theta) * std::cos(phi), std::cos(theta), -std::sin(theta) * std::sin(phi)).to_float();
     }
 };
 

@@ -36,8 +36,8 @@ struct Torus {
 
     /// The exact box of the torus: along world axis k it reaches R sqrt(1 - axis_k^2) + r.
     Aabb bounds() const {
-        const DVec3 a = unit_axis(), c(center);
-        DVec3 h;
+        const Vec3d a = unit_axis(), c(center);
+        Vec3d h;
         const double R = major, r = minor;
         h.x = R * std::sqrt(std::max(0.0, 1.0 - a.x * a.x)) + r;
         h.y = R * std::sqrt(std::max(0.0, 1.0 - a.y * a.y)) + r;
@@ -53,15 +53,15 @@ struct Torus {
 
     /// First crossing with t in [ray.tmin, tmax]; the roots depend on the ray alone.
     bool intersect(const Ray& ray, float tmax, ShapeHit& hit) const {
-        const DVec3 d0(ray.dir);
+        const Vec3d d0(ray.dir);
         const double dlen = length(d0);
         if (!(dlen > 0.0) || !std::isfinite(dlen)) return false;
         const double R = major;
-        const DVec3 d = d0 / dlen, a = unit_axis();
-        const DVec3 f = DVec3(ray.org) - DVec3(center);
+        const Vec3d d = d0 / dlen, a = unit_axis();
+        const Vec3d f = Vec3d(ray.org) - Vec3d(center);
         // Closest approach to the centre, in unit length along d: the new origin.
         const double t_mid = -dot(f, d);
-        const DVec3 o = (f + d * t_mid) / R;  // scaled: R = 1
+        const Vec3d o = (f + d * t_mid) / R;  // scaled: R = 1
         const double rr = double(minor) / R;
         const double reach = (1.0 + rr) * (1.0 + kMargin);  // bounding sphere, widened for rounding
         const double m2 = dot(o, o);
@@ -84,7 +84,7 @@ struct Torus {
         // are inside the cylinder rho < 1 - rr, so is everything between.
         const double hole = (1.0 - rr) * (1.0 - kMargin);
         auto rho2 = [&](double s) {
-            const DVec3 p = o + d * s;
+            const Vec3d p = o + d * s;
             const double y = dot(p, a);
             return dot(p, p) - y * y;
         };
@@ -109,10 +109,10 @@ struct Torus {
             const double s = roots[i];
             const float tf = float((t_mid + s * R) / dlen);
             if (!(tf >= ray.tmin && tf <= tmax)) continue;
-            const DVec3 p = o + d * s;
+            const Vec3d p = o + d * s;
             const double y = dot(p, a);
-            const DVec3 w = p - a * y;  // towards the tube's centre circle
-            DVec3 e1, e2;
+            const Vec3d w = p - a * y;  // towards the tube's centre circle
+            Vec3d e1, e2;
             frame(a, e1, e2);
             hit.t = tf;
             hit.u = turn_fraction(std::atan2(dot(w, e2), dot(w, e1)));
@@ -125,19 +125,19 @@ struct Torus {
     /// The gradient direction at the point with parameters (u, v): cos psi (cos phi e1 + sin phi
     /// e2) + sin psi axis. Computed from (u, v), exact wherever the float hit point lies.
     Vec3 normal(Vec3, float u, float v) const {
-        const DVec3 a = unit_axis();
-        DVec3 e1, e2;
+        const Vec3d a = unit_axis();
+        Vec3d e1, e2;
         frame(a, e1, e2);
         const double phi = kTwoPi * u, psi = kTwoPi * v;
-        const DVec3 radial = e1 * std::cos(phi) + e2 * std::sin(phi);
+        const Vec3d radial = e1 * std::cos(phi) + e2 * std::sin(phi);
         return (radial * std::cos(psi) + a * std::sin(psi)).to_float();
     }
 
-    DVec3 unit_axis() const { return normalize(DVec3(axis)); }
+    Vec3d unit_axis() const { return normalize(Vec3d(axis)); }
 
     /// The (e1, e2) of the (u, v) convention: e1 from +x (or +y), e2 = a x e1.
-    static void frame(DVec3 a, DVec3& e1, DVec3& e2) {
-        const DVec3 ref = std::fabs(a.x) < 0.9 ? DVec3(1, 0, 0) : DVec3(0, 1, 0);
+    static void frame(Vec3d a, Vec3d& e1, Vec3d& e2) {
+        const Vec3d ref = std::fabs(a.x) < 0.9 ? Vec3d(1, 0, 0) : Vec3d(0, 1, 0);
         e1 = normalize(ref - a * dot(ref, a));
         e2 = cross(a, e1);
     }

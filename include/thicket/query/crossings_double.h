@@ -23,7 +23,7 @@ inline double next_crossing_t_double(double t) {
 
 /// Appends the crossings of `ray` within [ray.tmin, ray.tmax], sorted by t, to `out`. The
 /// structure must be double_precision() (intersect_double throws Error naming precision=double
-/// otherwise) and the ray meaningful (make_ray_double()).
+/// otherwise) and the ray meaningful (make_ray()).
 inline void all_hits_double(const Accel& accel, const RayD& ray, std::vector<HitD>& out) {
     RayD rest = ray;
     for (;;) {

@@ -18,7 +18,7 @@ namespace thicket {
 /// float64 rows, RayRows' layouts.
 using RayRowsD = RayRowsOf<double>;
 
-/// A float64 batch's rays: valid[i] says whether row i has a meaning (make_ray_double()'s rules,
+/// A float64 batch's rays: valid[i] says whether row i has a meaning (make_ray()'s rules,
 /// make_ray()'s), rays[i] is its ray when it has. The double structures take rays one at a time,
 /// so the batch is converted whole, once.
 struct RayBatchD {

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "thicket/bvh/node.h"
-#include "thicket/core/vec3d.h"
+#include "thicket/core/vec3.h"
 
 namespace thicket {
 
