@@ -43,18 +43,7 @@ void Accel::occluded(std::span<const Ray> rays, std::span<uint8_t> out, const Ba
 }
 
 void Accel::all_hits(const Ray& ray, std::vector<Hit>& out) const {
-    Ray rest = ray;
-    for (;;) {
-        const Hit hit = intersect(rest);
-        if (!hit.found()) return;
-        out.push_back(hit);
-        // Past every hit of this crossing: neighbours at a shared edge answer the same t, or a
-        // few ulps apart (kSameCrossing). The interval must shrink, or a structure answering a
-        // hit before tmin would loop forever; a t that cannot grow (inf) ends the ray.
-        const float next = next_crossing_t(hit.t);
-        if (!(next > rest.tmin) || !(next <= rest.tmax) || !std::isfinite(next)) return;
-        rest.tmin = next;
-    }
+    step_crossings(ray, [this](const Ray& rest) { return intersect(rest); }, out);
 }
 
 size_t merge_crossings(std::span<Hit> hits, std::vector<Hit>* out) {

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <functional>
 #include <iosfwd>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <span>
@@ -74,8 +75,28 @@ void check_ray_answers(const char* query, size_t rays, size_t answers);
 /// The same tolerance as the conformance suite's "another primitive hit at the same t".
 inline constexpr float kSameCrossing = 1e-5f;
 
-/// The smallest t after `t` that starts a new crossing.
-inline float next_crossing_t(float t) { return std::nextafter(t + kSameCrossing * std::fabs(t), kInfinity); }
+/// The smallest t after `t` that starts a new crossing, with the spacing of t's precision.
+template <class S>
+inline S next_crossing_t(S t) {
+    return std::nextafter(t + S(kSameCrossing) * std::fabs(t), std::numeric_limits<S>::infinity());
+}
+
+/// Appends the crossings of `ray` within [ray.tmin, ray.tmax] to `out`, nearest first, as
+/// closest(ray) answers them: the closest hit, then the closest from just past it, past every
+/// hit of one crossing (neighbours at a shared edge answer the same t, or a few ulps apart:
+/// kSameCrossing), until a miss. The interval must shrink, or a structure answering a hit before
+/// tmin would loop forever; a t that cannot grow (inf) ends the ray.
+template <class S, class Closest>
+inline void step_crossings(RayT<S> ray, Closest&& closest, std::vector<HitT<S>>& out) {
+    for (;;) {
+        const HitT<S> hit = closest(ray);
+        if (!hit.found()) return;
+        out.push_back(hit);
+        const S next = next_crossing_t(hit.t);
+        if (!(next > ray.tmin) || !(next <= ray.tmax) || !std::isfinite(next)) return;
+        ray.tmin = next;
+    }
+}
 
 /// Sorts `hits` by t (then primitive) and merges them into crossings as Accel::all_hits steps from
 /// one to the next: a hit before next_crossing_t of the last crossing kept is the same crossing.
@@ -84,10 +105,13 @@ size_t merge_crossings(std::span<Hit> hits, std::vector<Hit>* out);
 
 /// Every crossing of each ray of a batch: the hits of rays[i] are hits[splits[i] .. splits[i+1]),
 /// sorted by t (Open3D's ray_splits layout; splits has one entry more than there are rays).
-struct HitLists {
+template <class S>
+struct HitListsOf {
     std::vector<size_t> splits;
-    std::vector<Hit> hits;
+    std::vector<HitT<S>> hits;
 };
+using HitLists = HitListsOf<float>;
+using HitListsD = HitListsOf<double>;  ///< float64 rays' (query/double_rays.h)
 
 /// Rays per unit of work in a batch: a multiple of every packet size, small enough that a slow
 /// region of the image does not leave one thread working alone at the end.
@@ -224,35 +248,63 @@ private:
 /// Implements Accel's virtual entry points for a structure with two templates:
 ///   template <class C> Hit closest(const Ray&, C& counters) const;
 ///   template <class C> bool any(const Ray&, C& counters) const;
-/// where C is RayCounters or NoCounters (free when not counting).
+/// where C is RayCounters or NoCounters (free when not counting). A structure that traces in
+/// double (`precision=double`) says so with kDoublePrecision = true and takes RayD, answering
+/// HitD: float rays are widened to double and their hits rounded back, double rays answered as
+/// they are. A structure keeping the two private befriends AccelBase.
 template <class Derived>
 class AccelBase : public Accel {
 public:
     using Accel::intersect;  // the batch overloads stay visible next to the per-ray ones
+    using Accel::intersect_double;
     using Accel::occluded;
+    using Accel::occluded_double;
     Hit intersect(const Ray& ray) const final {
         NoCounters none;
-        return self().closest(ray, none);
+        return closest_of(ray, none);
     }
-    Hit intersect(const Ray& ray, RayCounters& counters) const final { return self().closest(ray, counters); }
+    Hit intersect(const Ray& ray, RayCounters& counters) const final { return closest_of(ray, counters); }
     bool occluded(const Ray& ray) const final {
         NoCounters none;
-        return self().any(ray, none);
+        return any_of(ray, none);
     }
-    bool occluded(const Ray& ray, RayCounters& counters) const final { return self().any(ray, counters); }
-    /// Structures whose traversal calls the record_* members say so with kRecordsSteps = true.
+    bool occluded(const Ray& ray, RayCounters& counters) const final { return any_of(ray, counters); }
+    /// Structures whose traversal calls the record_* members say so with kRecordsSteps = true;
+    /// a double structure keeps Accel's counting default.
     Hit intersect(const Ray& ray, TraversalRecorder& recorder) const final {
-        if constexpr (requires { Derived::kRecordsSteps; }) recorder.detailed = Derived::kRecordsSteps;
-        return self().closest(ray, recorder);
+        if constexpr (in_double()) {
+            return Accel::intersect(ray, recorder);
+        } else {
+            if constexpr (requires { Derived::kRecordsSteps; }) recorder.detailed = Derived::kRecordsSteps;
+            return self().closest(ray, recorder);
+        }
     }
     /// Structures whose any-hit walk calls them say so with kRecordsAnyHitSteps = true; the others
     /// keep Accel's counting default (their any() is not instantiated for a recorder).
     bool occluded(const Ray& ray, TraversalRecorder& recorder) const final {
-        if constexpr (requires { Derived::kRecordsAnyHitSteps; }) {
+        if constexpr (!in_double() && requires { Derived::kRecordsAnyHitSteps; }) {
             recorder.detailed = Derived::kRecordsAnyHitSteps;
             return self().any(ray, recorder);
         } else {
             return Accel::occluded(ray, recorder);
+        }
+    }
+
+    bool double_precision() const final { return in_double(); }
+    HitD intersect_double(const RayD& ray) const final {
+        if constexpr (in_double()) {
+            NoCounters none;
+            return self().closest(ray, none);
+        } else {
+            return Accel::intersect_double(ray);  // refused: the structure is float
+        }
+    }
+    bool occluded_double(const RayD& ray) const final {
+        if constexpr (in_double()) {
+            NoCounters none;
+            return self().any(ray, none);
+        } else {
+            return Accel::occluded_double(ray);
         }
     }
 
@@ -274,7 +326,30 @@ public:
     }
 
 private:
+    /// Whether Derived traces in double (its kDoublePrecision). A function, not a constant: it is
+    /// read in the members' bodies, where Derived is complete.
+    static constexpr bool in_double() {
+        if constexpr (requires { Derived::kDoublePrecision; })
+            return Derived::kDoublePrecision;
+        else
+            return false;
+    }
+
     const Derived& self() const { return static_cast<const Derived&>(*this); }
+    template <class C>
+    Hit closest_of(const Ray& ray, C& counters) const {
+        if constexpr (in_double())
+            return to_hit(self().closest(to_double(ray), counters));
+        else
+            return self().closest(ray, counters);
+    }
+    template <class C>
+    bool any_of(const Ray& ray, C& counters) const {
+        if constexpr (in_double())
+            return self().any(to_double(ray), counters);
+        else
+            return self().any(ray, counters);
+    }
 };
 
 }  // namespace thicket

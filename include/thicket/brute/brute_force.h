@@ -7,33 +7,24 @@
 #include <vector>
 
 #include "thicket/accel/accel.h"
-#include "thicket/accel/accel_double.h"
 #include "thicket/prims/primitive_set.h"
 
 namespace thicket {
 
-template <class Prims>
-class BruteForce;
-
-/// AccelBase for a float set, AccelBaseD (rays widened, hits rounded) for a double one.
-template <class Prims>
-using BruteForceBase = std::conditional_t<kDoublePrimitives<Prims>, AccelBaseD<BruteForce<Prims>>,
-                                          AccelBase<BruteForce<Prims>>>;
-
 /// Over a PrimitiveSet, or a set in double (kDoublePrimitives).
 template <class Prims>
-class BruteForce final : public BruteForceBase<Prims> {
-    static constexpr bool kDouble = kDoublePrimitives<Prims>;
-    static_assert(kDouble || PrimitiveSet<Prims>);
-    using S = std::conditional_t<kDouble, double, float>;
-
+class BruteForce final : public AccelBase<BruteForce<Prims>> {
 public:
+    static constexpr bool kDoublePrecision = kDoublePrimitives<Prims>;
+    static_assert(kDoublePrecision || PrimitiveSet<Prims>);
+    using S = std::conditional_t<kDoublePrecision, double, float>;
+
     explicit BruteForce(Prims prims) : prims_(std::move(prims)) {
         for (uint32_t i = 0; i < prims_.size(); ++i) bounds_.grow(prims_.bounds(i));
     }
 
     Aabb bounds() const override {
-        if constexpr (kDouble)
+        if constexpr (kDoublePrecision)
             return outward_float_box(bounds_);
         else
             return bounds_;
@@ -65,20 +56,16 @@ public:
     /// the rule the default implementation follows (Accel::all_hits, kSameCrossing). A double set
     /// takes that default implementation itself.
     void all_hits(const Ray& ray, std::vector<Hit>& out) const override {
-        if constexpr (kDouble) {
+        if constexpr (kDoublePrecision) {
             Accel::all_hits(ray, out);
         } else {
             std::vector<Hit> roots;
             for (uint32_t i = 0, n = uint32_t(prims_.size()); i < n; ++i) {
-                Ray rest = ray;
-                for (;;) {
+                step_crossings(ray, [&](const Ray& rest) {
                     Hit hit = miss_for(rest);
-                    if (!prims_.intersect(i, rest, hit)) break;
-                    roots.push_back(hit);
-                    const float next = next_crossing_t(hit.t);  // as Accel::all_hits steps
-                    if (!(next > rest.tmin) || !(next <= rest.tmax) || !std::isfinite(next)) break;
-                    rest.tmin = next;
-                }
+                    prims_.intersect(i, rest, hit);
+                    return hit;
+                }, roots);
             }
             merge_crossings(roots, &out);
         }

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "thicket/accel/accel_double.h"
+#include "thicket/accel/accel.h"
 #include "thicket/bvh/build.h"
 #include "thicket/bvh/traversal.h"
 #include "thicket/core/aligned.h"
@@ -25,10 +25,12 @@ struct alignas(64) BvhNodeD {
 static_assert(sizeof(BvhNodeD) == 64, "one double node per cache line");
 
 template <TriangleTest Test>
-class BvhD final : public AccelBaseD<BvhD<Test>> {
-    friend class AccelBaseD<BvhD<Test>>;
+class BvhD final : public AccelBase<BvhD<Test>> {
+    friend class AccelBase<BvhD<Test>>;
 
 public:
+    static constexpr bool kDoublePrecision = true;
+
     /// Builds over `prims` with the float builders (options.builder etc.), traced in `traversal`
     /// order (recursive and stack visit the same nodes; the ordered ones pick the near child as
     /// the float BVH does).

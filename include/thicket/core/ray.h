@@ -30,7 +30,7 @@ using RayD = RayT<double>;
 /// a zero direction, a NaN or reversed interval. Such rays are to be answered as misses, not
 /// traced: every traversal assumes a finite origin and a non-zero direction.
 template <class S>
-bool make_ray(const S* r, RayT<S>& ray) {
+inline bool make_ray(const S* r, RayT<S>& ray) {
     for (int i = 0; i < 6; ++i)
         if (!std::isfinite(r[i])) return false;
     if (std::isnan(r[6]) || std::isnan(r[7]) || r[6] > r[7]) return false;

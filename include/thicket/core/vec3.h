@@ -43,6 +43,8 @@ struct Vec3T {
 using Vec3 = Vec3T<float>;
 using Vec3d = Vec3T<double>;
 
+// The functions are declared inline, as constexpr ones are: GCC inlines a function template
+// not so declared less eagerly (core/triangle.h says what that cost).
 // The second operand of each binary function is not deduced, so it may be written braced
 // (dot(n, {0, 0, 1})) and a scalar of the other precision converts as it did before.
 template <class S>
@@ -57,9 +59,9 @@ constexpr Vec3T<S> cross(Vec3T<S> a, Vec3Same<S> b) {
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 template <class S>
-S length(Vec3T<S> v) { return std::sqrt(dot(v, v)); }
+inline S length(Vec3T<S> v) { return std::sqrt(dot(v, v)); }
 template <class S>
-Vec3T<S> normalize(Vec3T<S> v) { return v / length(v); }
+inline Vec3T<S> normalize(Vec3T<S> v) { return v / length(v); }
 template <class S>
 constexpr Vec3T<S> min(Vec3T<S> a, Vec3Same<S> b) {
     return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)};
@@ -70,9 +72,9 @@ constexpr Vec3T<S> max(Vec3T<S> a, Vec3Same<S> b) {
 }
 /// No component infinite or NaN.
 template <class S>
-bool is_finite(Vec3T<S> v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+inline bool is_finite(Vec3T<S> v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 template <class S>
-Vec3T<S> abs(Vec3T<S> v) { return {std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}; }
+inline Vec3T<S> abs(Vec3T<S> v) { return {std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}; }
 template <class S>
 constexpr S max_component(Vec3T<S> v) { return std::max(v.x, std::max(v.y, v.z)); }
 /// Index (0, 1, 2) of the largest component; ties go to the lower axis.
