@@ -9,9 +9,9 @@ namespace {
 inline constexpr const char* kIsaName = "avx2";
 /// Whether the packet kernel traces packets (false: each ray alone). Not on AVX2: its 16-ray
 /// vectors take two of the 16 ymm registers each, the packet's origins, directions and inverses
-/// alone eighteen, and the spills made packets 1.5-2.5x slower than single rays on every shared
-/// scene (AMD EPYC, THICKET_ISA=avx2, 2026-12-03: sponza primary 2.02 against 3.69 Mrays/s,
-/// dragon 4.15 against 6.55). A packet kernel of 8 rays would fit; until then, rays one by one.
+/// alone eighteen, and the spills made packets slower than single rays on every shared scene
+/// (BENCHMARKS.md, "bvh8 on incoherent rays", Packets on AVX2). A packet kernel of 8 rays would
+/// fit; until then, rays one by one.
 inline constexpr bool kPackets = false;
 
 /// Bits (from bit 0) of the node lanes where a <= b; lanes outside `valid` may be cleared already.

@@ -1,7 +1,9 @@
 #pragma once
 /// The one interface every acceleration structure implements: bounds, closest hit, any hit,
-/// statistics. Structures are interchangeable behind it; the per-ray virtual call is the only
-/// indirection (never per node). For the last few percent, use a structure's class directly.
+/// statistics. Structures are interchangeable behind it at one virtual call per ray (or per batch):
+/// inside, each traversal is compiled for its primitive set, with no virtual call per node (the
+/// instanced top level calls its bottom levels through function pointers, once per instance a ray
+/// reaches). For the last few percent, use a structure's class directly.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>

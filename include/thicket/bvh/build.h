@@ -16,9 +16,7 @@ namespace thicket {
 /// Nodes of at most this many primitives are split on block boundaries when
 /// BvhBuildOptions::sah_block is above 1 (block_builder.cpp): their leaves then waste fewer than
 /// sah_block slots in all. Larger nodes keep the builder's own split choice. 16 measured best of
-/// 0, 8, 16, 32 and 64 (bvh8, quality medium and high, the shared scenes): blocks 93-98% full
-/// and an Embree SAH within 2% of block weighing alone (0: sibenik and sponza 88-89% full); 8
-/// left sibenik at 90%; 32 and 64 raised sibenik's SAH by 4% and 6%.
+/// 0, 8, 16, 32 and 64 (BENCHMARKS.md, "Block split bound").
 inline constexpr uint32_t kBlockPackMax = 16;
 
 /// Nodes this big or bigger are the "top" of a build: bounded, binned and partitioned by all the
