@@ -45,7 +45,7 @@ def run(cmd, env, cwd):
 def venv(tmp_path):
     """A fresh venv seeing Debian's packages, and the environment pip builds in: setuptools'
     build and egg-info folders in tmp_path (nothing written to the source tree), the CMake tree and
-    compiler launcher the ctest entry names, no index (offline)."""
+    compiler launcher and unity directory the ctest entry names, no index (offline)."""
     run([sys.executable, "-m", "venv", "--system-site-packages", tmp_path / "V"], dict(os.environ), tmp_path)
     cfg = tmp_path / "setup.cfg"
     cfg.write_text(f"[build]\nbuild_base = {tmp_path / 'build'}\n[egg_info]\negg_base = {tmp_path}\n")
@@ -55,6 +55,8 @@ def venv(tmp_path):
         env["THICKET_CMAKE_BUILD_DIR"] = os.environ["THICKET_PIP_CMAKE_DIR"]
     if os.environ.get("THICKET_PIP_LAUNCHER"):
         env["CMAKE_CXX_COMPILER_LAUNCHER"] = os.environ["THICKET_PIP_LAUNCHER"]
+    if os.environ.get("THICKET_PIP_UNITY_DIR"):  # the ctest tree's units: same paths, ccache hits
+        env["CMAKE_ARGS"] = (env.get("CMAKE_ARGS", "") + f" -DTHICKET_UNITY_DIR={os.environ['THICKET_PIP_UNITY_DIR']}").strip()
     env.setdefault("CMAKE_BUILD_PARALLEL_LEVEL", "2")
     return tmp_path / "V" / "bin", env, tmp_path
 

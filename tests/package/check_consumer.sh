@@ -19,9 +19,12 @@ if [ "$via" = package ]; then
 else
   # The library is compiled again here, with the main build's flags and compiler launcher: where
   # that is ccache (scripts/test), every object is a cache hit. Only what the consumer links is built.
+  # The main build's unity directory too: the units' paths are part of what ccache hashes.
   launcher=$(sed -n 's/^CMAKE_CXX_COMPILER_LAUNCHER:[A-Z]*=//p' "$build/CMakeCache.txt")
+  unity=$(sed -n 's/^THICKET_UNITY_DIR:[A-Z]*=//p' "$build/CMakeCache.txt")
   cmake -S "$source/tests/package/consumer" -B "$work/consumer" -DTHICKET_VIA=subdirectory \
-        -DTHICKET_SOURCE="$source" -DCMAKE_BUILD_TYPE=Release ${launcher:+"-DCMAKE_CXX_COMPILER_LAUNCHER=$launcher"} >/dev/null
+        -DTHICKET_SOURCE="$source" -DCMAKE_BUILD_TYPE=Release ${launcher:+"-DCMAKE_CXX_COMPILER_LAUNCHER=$launcher"} \
+        ${unity:+"-DTHICKET_UNITY_DIR=$unity"} >/dev/null
 fi
 cmake --build "$work/consumer" -j2 --target consumer >/dev/null
 "$work/consumer/consumer"
