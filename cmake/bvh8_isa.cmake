@@ -35,7 +35,7 @@ if(CMAKE_SYSTEM_PROCESSOR MATCHES "x86_64|AMD64|amd64" AND CMAKE_CXX_COMPILER_ID
       set(_check ${PROJECT_SOURCE_DIR}/tests/bvh8/check_isa_confinement.sh)
       add_test(NAME bvh8.isa_confinement COMMAND ${_check} ${THICKET_OBJDUMP} clean $<TARGET_FILE:thicket>)
       add_test(NAME bvh8.isa_confinement_detects_trap
-        COMMAND ${_check} ${THICKET_OBJDUMP} violation $<TARGET_FILE:thicket_bvh8_isa_trap> "^thicket::hit_within_bounds")
+        COMMAND ${_check} ${THICKET_OBJDUMP} violation $<TARGET_FILE:thicket_bvh8_isa_trap> "(^| )thicket::hit_within_bounds[<(]")
       if(TARGET thicket_cli)
         add_test(NAME bvh8.isa_confinement_cli COMMAND ${_check} ${THICKET_OBJDUMP} clean-cli $<TARGET_FILE:thicket_cli>)
       endif()

@@ -21,7 +21,7 @@
 #include "thicket/core/closest_point.h"
 #include "thicket/core/drawn_node.h"
 #include "thicket/core/ray.h"
-#include "thicket/core/ray_double.h"
+#include "thicket/core/ray_box.h"
 #include "thicket/core/sah.h"
 #include "thicket/core/traversal_record.h"
 #include "thicket/core/tree_figures.h"

@@ -8,19 +8,23 @@
 
 namespace thicket {
 
-/// Two nodes per 64-byte cache line. A node is a leaf iff count > 0: then its primitives are
-/// prim_indices[leftFirst .. leftFirst+count). Otherwise its children are nodes leftFirst and
-/// leftFirst+1 (right = left + 1, so one index serves both).
-struct alignas(32) BvhNode {
-    Vec3 aabbMin;
+/// Two float nodes per 64-byte cache line (one double node per line). A node is a leaf iff
+/// count > 0: then its primitives are prim_indices[leftFirst .. leftFirst+count). Otherwise its
+/// children are nodes leftFirst and leftFirst+1 (right = left + 1, so one index serves both).
+template <class S>
+struct alignas(sizeof(S) == 4 ? 32 : 64) BvhNodeT {
+    Vec3T<S> aabbMin;
     uint32_t leftFirst = 0;
-    Vec3 aabbMax;
+    Vec3T<S> aabbMax;
     uint32_t count = 0;
 
     bool is_leaf() const { return count > 0; }
-    Aabb bounds() const { return {aabbMin, aabbMax}; }
+    AabbT<S> bounds() const { return {aabbMin, aabbMax}; }
 };
+using BvhNode = BvhNodeT<float>;
+using BvhNodeD = BvhNodeT<double>;  ///< the `precision=double` BVH's node
 static_assert(sizeof(BvhNode) == 32, "the lecture's node is 32 bytes: two per cache line");
+static_assert(sizeof(BvhNodeD) == 64, "one double node per cache line");
 
 /// Per interior node, what the ordered traversals need beside the 32-byte node (one byte, kept
 /// apart so the node stays 32 bytes): bits 0-1 the split axis (the left child holds the lower
@@ -41,12 +45,19 @@ inline constexpr uint32_t kMaxSahDepth = 64;
 inline constexpr uint32_t kMaxDepth = 100;
 inline constexpr uint32_t kTraversalStackSize = 128;
 
-/// A built BVH: relocatable (indices only, no pointers), hence serializable as is.
-struct BvhData {
-    AlignedVector<BvhNode, 64> nodes;  ///< pool of 2N nodes: root at 0, 1 unused (cache alignment)
+/// A built BVH: relocatable (indices only, no pointers), hence serializable as is. The double
+/// one (BvhDataD) holds the float builder's topology, leaf order and child order bytes, with each
+/// node's box the union of its triangles' double boxes (bvh/bvh_double.h).
+template <class S>
+struct BvhDataT {
+    using Node = BvhNodeT<S>;
+    using Scalar = S;
+    AlignedVector<Node, 64> nodes;     ///< pool of 2N nodes: root at 0, 1 unused (cache alignment)
     std::vector<uint32_t> prim_indices;///< partitioned in place by the builder
     std::vector<uint8_t> child_order;  ///< ChildOrder byte per node (interior nodes only meaningful)
     uint32_t nodes_used = 0;           ///< 0 for an empty scene
 };
+using BvhData = BvhDataT<float>;
+using BvhDataD = BvhDataT<double>;
 
 }  // namespace thicket

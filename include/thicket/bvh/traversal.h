@@ -19,29 +19,32 @@ enum class BvhTraversal { Recursive, Stack, OrderedDistance, OrderedAxis, Ordere
 namespace bvh_detail {
 
 /// Closest hit (AnyHit = false: updates `hit`, returns whether anything was hit) or any hit
-/// (AnyHit = true: returns at the first primitive hit within [tmin, tmax]).
-template <bool AnyHit, class Prims, class C>
-struct Query : QueryState<AnyHit, BvhData, Prims, C, /*Records=*/true> {
-    using State = QueryState<AnyHit, BvhData, Prims, C, true>;
+/// (AnyHit = true: returns at the first primitive hit within [tmin, tmax]). Data is BvhData, or
+/// BvhDataD for the double BVH (the same tree with double boxes, traced with double rays).
+template <bool AnyHit, class Prims, class C, class Data = BvhData>
+struct Query : QueryState<AnyHit, Data, Prims, C, /*Records=*/true, typename Data::Scalar> {
+    using S = typename Data::Scalar;
+    using Node = typename Data::Node;
+    using State = QueryState<AnyHit, Data, Prims, C, true, S>;
     using State::data, State::ray, State::counters, State::far, State::test_prims;
-    const RayBoxQuery box;
+    const RayBoxQueryT<S> box;
 
-    Query(const BvhData& b, const Prims& p, const Ray& r, Hit& h, C& c) : State(b, p, r, h, c), box(r) {}
+    Query(const Data& b, const Prims& p, const RayT<S>& r, HitT<S>& h, C& c) : State(b, p, r, h, c), box(r) {}
 
-    float enter(uint32_t n) {
+    S enter(uint32_t n) {
         counters.node();
-        const float t = ray_box_entry(box, data.nodes[n].aabbMin, data.nodes[n].aabbMax, ray.tmin, far());
+        const S t = ray_box_entry(box, data.nodes[n].aabbMin, data.nodes[n].aabbMax, ray.tmin, far());
         if constexpr (RecordsSteps<C>) counters.record_node(n, t);
         return t;
     }
 
     /// Tests a leaf's primitives; true ends the query (any-hit found something).
-    bool leaf(const BvhNode& node) { return test_prims(data.prim_indices, node.leftFirst, node.leftFirst + node.count); }
+    bool leaf(const Node& node) { return test_prims(data.prim_indices, node.leftFirst, node.leftFirst + node.count); }
 
     /// The slide's traversal: test the box, then the primitives or both children in order.
     bool recursive(uint32_t n) {
         if (enter(n) == kInfinity) return false;
-        const BvhNode& node = data.nodes[n];
+        const Node& node = data.nodes[n];
         if (node.is_leaf()) return leaf(node);
         return recursive(node.leftFirst) || recursive(node.leftFirst + 1);
     }
@@ -54,7 +57,7 @@ struct Query : QueryState<AnyHit, BvhData, Prims, C, /*Records=*/true> {
         while (sp > 0) {
             const uint32_t n = stack[--sp];
             if (enter(n) == kInfinity) continue;
-            const BvhNode& node = data.nodes[n];
+            const Node& node = data.nodes[n];
             if (node.is_leaf()) {
                 if (leaf(node)) return true;
             } else {
@@ -66,7 +69,7 @@ struct Query : QueryState<AnyHit, BvhData, Prims, C, /*Records=*/true> {
     }
 
     /// A pushed node dropped when popped (the hit found since is nearer): told to a recorder.
-    void skipped(uint32_t n, float t_enter) {
+    void skipped(uint32_t n, S t_enter) {
         if constexpr (RecordsSteps<C>) counters.record_skip(n, t_enter);
     }
 
@@ -78,7 +81,7 @@ struct Query : QueryState<AnyHit, BvhData, Prims, C, /*Records=*/true> {
     /// distance, by the ray's sign along the split axis, or along the children's centroid axis.
     template <BvhTraversal Order>
     bool ordered() {
-        return ordered_traversal<kTraversalStackSize>(*this, [&](uint32_t n, float t_first, float t_second) {
+        return ordered_traversal<kTraversalStackSize>(*this, [&](uint32_t n, S t_first, S t_second) {
             if constexpr (Order == BvhTraversal::OrderedDistance) {
                 return t_second < t_first;
             } else if constexpr (Order == BvhTraversal::OrderedAxis) {

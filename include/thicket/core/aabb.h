@@ -1,5 +1,6 @@
 #pragma once
 /// Axis-aligned bounding box; the empty box has min = +inf, max = -inf so that growing works.
+#include <cmath>
 #include <limits>
 #include <type_traits>
 
@@ -45,6 +46,21 @@ constexpr AabbT<S> intersection(const AabbT<S>& a, const std::type_identity_t<Aa
     r.max = thicket::min(a.max, b.max);
     if (r.empty()) return AabbT<S>{};
     return r;
+}
+
+/// The smallest float box holding `b` (rounded outward): what a float builder may split on
+/// without a primitive ever leaving its node's double box.
+inline Aabb outward_float_box(const AabbD& b) {
+    if (b.empty()) return Aabb{};
+    Aabb f;
+    for (int a = 0; a < 3; ++a) {
+        float lo = float(b.min[a]), hi = float(b.max[a]);
+        if (double(lo) > b.min[a]) lo = std::nextafter(lo, -std::numeric_limits<float>::infinity());
+        if (double(hi) < b.max[a]) hi = std::nextafter(hi, std::numeric_limits<float>::infinity());
+        f.min[a] = lo;
+        f.max[a] = hi;
+    }
+    return f;
 }
 
 }  // namespace thicket

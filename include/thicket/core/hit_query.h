@@ -15,19 +15,20 @@ namespace thicket {
 /// data, its primitives, the ray, the hit it narrows and the counters; the end of the interval
 /// still searched; and the leaf test. A structure that records its steps for the explorer
 /// (kRecordsSteps) says so with Records: its primitive tests are then told to a recording counter.
-template <bool AnyHit, class Data, class Prims, class C, bool Records = false>
+/// S is the scalar of the rays and hits (double for the `precision=double` BVH).
+template <bool AnyHit, class Data, class Prims, class C, bool Records = false, class S = float>
 struct QueryState {
     const Data& data;
     const Prims& prims;
-    const Ray& ray;
-    Hit& hit;
+    const RayT<S>& ray;
+    HitT<S>& hit;
     C& counters;
 
-    QueryState(const Data& d, const Prims& p, const Ray& r, Hit& h, C& c)
+    QueryState(const Data& d, const Prims& p, const RayT<S>& r, HitT<S>& h, C& c)
         : data(d), prims(p), ray(r), hit(h), counters(c) {}
 
     /// The far end of the interval still searched: tmax for any hit, the closest hit so far else.
-    float far() const { return AnyHit ? ray.tmax : hit.t; }
+    S far() const { return AnyHit ? ray.tmax : hit.t; }
 
     /// Tests primitives order[first .. end); true ends the query (any hit found one). With
     /// Records, a recording counter (RecordsSteps) hears of each test, the blocker's too.

@@ -24,7 +24,7 @@ template <uint32_t StackSize, class Query, class SecondFirst>
 inline bool ordered_traversal(Query& q, SecondFirst&& second_first) {
     struct Entry {
         uint32_t node;
-        float t;
+        decltype(q.far()) t;  // the query's scalar: float, or double for a double BVH
     };
     Entry stack[StackSize];
     uint32_t sp = 0;
@@ -35,7 +35,7 @@ inline bool ordered_traversal(Query& q, SecondFirst&& second_first) {
             if (q.leaf(n)) return true;
         } else {
             uint32_t near = q.first_child(n), far_node = near + 1;
-            float t_near = q.enter(near), t_far = q.enter(far_node);
+            auto t_near = q.enter(near), t_far = q.enter(far_node);
             if (second_first(n, t_near, t_far)) {
                 std::swap(near, far_node);
                 std::swap(t_near, t_far);

@@ -61,6 +61,15 @@ static_assert(sizeof(Hit) == 16 && offsetof(Hit, t) == 0 && offsetof(Hit, u) == 
                   offsetof(Hit, prim) == 12,
               "Hit is t u v prim, 16 bytes");
 
+/// A float ray widened exactly to double.
+inline RayD to_double(const Ray& r) {
+    const double inf = std::numeric_limits<double>::infinity();
+    return {Vec3d(r.org), r.tmin == kInfinity ? inf : double(r.tmin), Vec3d(r.dir),
+            r.tmax == kInfinity ? inf : double(r.tmax)};
+}
+/// The double hit rounded to float (t beyond float's range becomes +inf).
+inline Hit to_hit(const HitD& h) { return {float(h.t), float(h.u), float(h.v), h.prim}; }
+
 /// Starts a closest-hit query: the search interval's far end is the ray's tmax.
 template <class S>
 constexpr HitT<S> miss_for(const RayT<S>& ray) { return HitT<S>{ray.tmax, 0, 0, kNoPrim}; }

@@ -12,7 +12,6 @@
 #include "thicket/core/aabb.h"
 #include "thicket/core/closest_point.h"
 #include "thicket/core/ray_box.h"
-#include "thicket/core/ray_double.h"
 #include "thicket/core/triangle.h"
 #include "thicket/prims/clip.h"
 #include "thicket/geometry/mesh.h"

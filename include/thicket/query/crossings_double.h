@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "thicket/accel/accel.h"
-#include "thicket/core/ray_double.h"
+#include "thicket/core/ray_box.h"
 
 namespace thicket {
 

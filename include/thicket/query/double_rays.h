@@ -11,7 +11,7 @@
 #include "thicket/accel/accel.h"
 #include "thicket/query/crossings_double.h"
 #include "thicket/query/ray_rows.h"
-#include "thicket/core/ray_double.h"
+#include "thicket/core/ray_box.h"
 
 namespace thicket {
 
