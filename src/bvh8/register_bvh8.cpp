@@ -12,6 +12,9 @@ namespace {
 
 constexpr Choice<bool> kOnOff[] = {{"on", true}, {"off", false}};
 constexpr Choice<bool> kNodeLayouts[] = {{"full", false}, {"compressed", true}};
+constexpr Choice<bvh8::TreeSource> kTreeSources[] = {{"thicket", bvh8::TreeSource::Thicket},
+                                                     {"embree-medium", bvh8::TreeSource::EmbreeMedium},
+                                                     {"embree-high", bvh8::TreeSource::EmbreeHigh}};
 
 // The default of `bins` (Bvh8Options' binary.bins), which the quality presets set too.
 constexpr const char* kDefaultBins = "16";
@@ -85,7 +88,13 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
                          "node layout: full (256-byte nodes of float boxes) or compressed (96-byte nodes, each child "
                          "plane 8 bits relative to its node's box, rounded outward: the same hits in 0.4x the node "
                          "memory)",
-                         &O::compressed, kNodeLayouts)},
+                         &O::compressed, kNodeLayouts),
+            choice_field("tree",
+                         "who builds the tree: thicket (the builder keys above), or Embree's own builder "
+                         "(rtcBuildBVH: embree-medium binned SAH, embree-high with its spatial splits) writing bvh8 "
+                         "nodes and blocks, traced by bvh8's kernels: the bench's split of the gap to Embree into tree "
+                         "and kernel. Only `thicket bench` links Embree; elsewhere embree-* is an error",
+                         &O::tree, kTreeSources)},
         fields_in(&O::binary, join_fields(sbvh_ploc_fields(), optimize_fields())));
     AccelInfo info = accel_info({.name = "bvh8",
                                  .partitioning = Partitioning::Object,

@@ -292,3 +292,94 @@ TEST(Bvh8Query, EveryIsaAnswersBitwiseLikeTheScalarKernels) {
 
 }  // namespace
 }  // namespace thicket::bvh8_structure_test
+
+namespace thicket::bvh8_foreign_tree_test {
+namespace {
+
+/// A foreign builder for the test: leaves of 3 primitives in index order, grouped 8 (then 5 at
+/// the top, to have a node that is not full) bottom-up into nodes whose boxes are their unions.
+bvh8::WideTree grouped_tree(const bvh8::ForeignTreeRequest& request) {
+    bvh8::WideTree wide;
+    std::vector<uint32_t> level;  // item indices of the level being grouped
+    std::vector<bvh8::WideTree::Item> items;
+    for (uint32_t i = 0; i < request.prim_bounds.size(); i += 3) {
+        bvh8::WideTree::Item leaf{{}, i, std::min<uint32_t>(3, uint32_t(request.prim_bounds.size()) - i), true};
+        for (uint32_t p = i; p < i + leaf.count; ++p) {
+            leaf.box.grow(request.prim_bounds[p]);
+            wide.prims.push_back(p);
+        }
+        level.push_back(uint32_t(items.size()));
+        items.push_back(leaf);
+    }
+    while (level.size() > 1) {
+        const size_t group = level.size() <= 5 ? 5 : 8;
+        std::vector<uint32_t> next;
+        for (size_t i = 0; i < level.size(); i += group) {
+            bvh8::WideTree::Item node{{}, uint32_t(wide.children.size()), 0, false};
+            for (size_t k = i; k < std::min(level.size(), i + group); ++k) {
+                node.box.grow(items[level[k]].box);
+                wide.children.push_back(level[k]);
+                ++node.count;
+            }
+            next.push_back(uint32_t(items.size()));
+            items.push_back(node);
+        }
+        level = next;
+    }
+    // The root first: swap it with item 0 and fix the references.
+    const uint32_t root = level.empty() ? 0 : level[0];
+    if (!items.empty() && root != 0) {
+        std::swap(items[0], items[root]);
+        for (uint32_t& c : wide.children) c = c == 0 ? root : c == root ? 0 : c;
+    }
+    wide.items = std::move(items);
+    return wide;
+}
+
+/// Uninstalls the test's builder whatever happens.
+struct InstalledBuilder {
+    explicit InstalledBuilder(bvh8::ForeignTreeBuilder b) { bvh8::set_foreign_tree_builder(b); }
+    ~InstalledBuilder() { bvh8::set_foreign_tree_builder(nullptr); }
+};
+
+TEST(Bvh8ForeignTree, WithoutABuilderEmbreesTreesAreRefusedNamingTheBench) {
+    const Scene scene = load_scene("cornell");
+    for (const char* spec : {"bvh8:tree=embree-medium", "bvh8:tree=embree-high"}) {
+        try {
+            build_accel(spec, scene);
+            ADD_FAILURE() << spec << " built without a foreign builder";
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find("thicket bench"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find(std::string(spec).substr(5)), std::string::npos) << e.what();
+        }
+    }
+}
+
+TEST(Bvh8ForeignTree, AWideTreeIsWrittenAsItIsAndAnswersLikeBruteForce) {
+    const InstalledBuilder installed(&grouped_tree);
+    for (const Scene& scene : {load_scene("cornell"), testing::nasty_scenes().back()}) {
+        SCOPED_TRACE(scene.name);
+        const auto accel = build_accel("bvh8:tree=embree-medium", scene);
+        const auto& bvh = dynamic_cast<const Bvh8<Triangles<>>&>(*accel);
+        const bvh8::Tree& tree = bvh.tree();
+        // One 8-wide node per interior item, in the item's child order: the first node's lanes
+        // are the root's children, and the last level's first node holds leaves of 3 primitives.
+        const size_t leaves = (scene.primitive_count() + 2) / 3;
+        size_t interior = 0;
+        for (size_t level = leaves; level > 1;) {
+            const size_t group = level <= 5 ? 5 : 8;
+            level = (level + group - 1) / group;
+            interior += level;
+        }
+        EXPECT_EQ(tree.nodes.size(), interior);
+        const auto brute = build_accel("brute", scene);
+        for (const Ray& ray : testing::conformance_rays(scene, 400)) {
+            const Hit a = accel->intersect(ray), b = brute->intersect(ray);
+            EXPECT_TRUE(a.t == b.t && (a.prim == b.prim || a.found())) << a.prim << " " << b.prim;
+            EXPECT_EQ(accel->occluded(ray), brute->occluded(ray));
+        }
+    }
+}
+
+}  // namespace
+}  // namespace thicket::bvh8_foreign_tree_test

@@ -21,6 +21,7 @@
 
 #if THICKET_HAVE_EMBREE
 #include "embree_tracer.h"
+#include "embree_tree.h"
 #endif
 
 namespace thicket::cli {
@@ -53,8 +54,11 @@ struct BenchArgs {
 };
 
 // A tracer of every spec asked for (parse_accel_specs(): `all` expanded, duplicates dropped,
-// each checked before any slow work).
+// each checked before any slow work). With Embree linked, bvh8:tree=embree-* can build.
 std::vector<TracerFactory> thicket_tracers(const std::vector<AskedSpec>& specs) {
+#if THICKET_HAVE_EMBREE
+    install_embree_tree_builder();
+#endif
     std::vector<TracerFactory> out;
     for (const AskedSpec& s : specs) out.push_back(accel_tracer_factory(s.text, s.spec));
     return out;

@@ -34,6 +34,19 @@ struct Tree {
     double embree_sah_cost = 0.0;   ///< Embree's: (sum node areas + sum leaf area x 4-blocks) / root area
 };
 
+/// A tree another builder made (Embree's, through rtcBuildBVH: bvh8/foreign_tree.h), up to 8
+/// children per node, written into 8-wide nodes as it is by write_wide_tree.
+struct WideTree {
+    struct Item {
+        Aabb box;
+        uint32_t first = 0, count = 0;  ///< a node's children[first..+count), a leaf's prims[first..+count)
+        bool leaf = false;
+    };
+    std::vector<Item> items;          ///< items[0] is the root; empty for an empty scene
+    std::vector<uint32_t> children;   ///< indices into items
+    std::vector<uint32_t> prims;      ///< primitive ids (a spatial split may list one in several leaves)
+};
+
 /// The binary BVH over every primitive of `prims` that the collapse starts from: their bounds and
 /// centroids gathered on options.threads threads, spatial splits (sbvh) clipping them exactly
 /// where the set can (clipped_bounds).
@@ -58,6 +71,13 @@ Tree collapse(const BvhData& binary, const LeafEmitter& emit, uint32_t merge_bel
 /// packed: ceil(n / 4) per lane's leaf of n. An upper bound when the packing drops degenerate or
 /// repeated triangles; so the blocks are reserved once, neither 4x too many nor copied to fit.
 size_t block_count(const BvhData& binary, uint32_t merge_below);
+
+/// The 8-wide tree of `wide` as it is: one node per interior item, its children in their order,
+/// each leaf item one lane stored by emit(first, count) (prims[first .. first + count)).
+Tree write_wide_tree(const WideTree& wide, const LeafEmitter& emit);
+
+/// The 4-triangle blocks write_wide_tree stores when every primitive is packed (as block_count).
+size_t block_count(const WideTree& wide);
 
 /// Checks what the kernels rely on: child indices in range and after their parent (no cycle),
 /// leaves within `leaf_slots`, empty lanes inverted. Throws Error naming the first violation.

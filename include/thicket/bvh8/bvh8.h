@@ -23,6 +23,7 @@
 #include "thicket/bvh8/build.h"
 #include "thicket/bvh8/compress.h"
 #include "thicket/bvh8/draw.h"
+#include "thicket/bvh8/foreign_tree.h"
 #include "thicket/bvh8/bvh8_io.h"
 #include "thicket/bvh8/closest_point.h"
 #include "thicket/bvh8/isa.h"
@@ -43,6 +44,8 @@ struct Bvh8Options {
     uint32_t merge_below = 4;  ///< subtrees of at most this many primitives become one leaf
     bool packets = true;       ///< coherent batches go through the packet kernels
     bool compressed = false;   ///< nodes=compressed: QNodes (96 bytes) instead of Nodes (256)
+    /// tree=embree-*: Embree's builder writes the tree (bvh8/foreign_tree.h); `binary` unused.
+    bvh8::TreeSource tree = bvh8::TreeSource::Thicket;
 };
 
 namespace bvh8 {
@@ -63,39 +66,25 @@ public:
     /// The leaves are 4-triangle blocks (and a sliver tree); otherwise primitive ids into prims_.
     static constexpr bool kBlocks = kLeafKind != bvh8::kLeafCallback;
 
-    /// Builds the binary BVH with options.binary, collapses it, and picks options.isa's kernels.
+    /// Builds the binary BVH with options.binary and collapses it (or has the foreign builder
+    /// options.tree names write the tree), and picks options.isa's kernels.
     Bvh8(Prims prims, const Bvh8Options& options)
         : prims_(std::move(prims)),
           primitives_(prims_.size()),
           packets_(options.packets),
           kernels_(&bvh8::kernels_for(options.isa)) {
-        const BvhData binary = bvh8::build_binary(prims_, options.binary);
-        references_ = binary.prim_indices.size();
-        if constexpr (kBlocks) {
-            dropped_ = bvh8::count_degenerate(prims_);
-            // Exactly the blocks the collapse stores (an upper bound when it drops degenerate or
-            // repeated triangles): never reallocated during the collapse, never copied to fit.
-            reserve_huge(blocks_, bvh8::block_count(binary, options.merge_below));
-            std::vector<uint32_t> slivers;
-            bvh8::BlockPacking packing{references_ > primitives_, &slivers};
-            tree_ = bvh8::collapse(
-                binary,
-                [&](uint32_t first, uint32_t count) {
-                    return bvh8::pack_blocks(blocks_, prims_, binary.prim_indices.data() + first, count, packing);
-                },
-                options.merge_below);
-            bvh8::validate_tree(tree_, blocks_.size());
-            // Many degenerate triangles (dropped) can leave the reservation well above the need.
-            if (blocks_.capacity() - blocks_.size() > blocks_.size() / 8) blocks_.shrink_to_fit();
-            kept_ = packing.lanes;
-            slivers_ = bvh8::build_sliver_tree(prims_, std::move(slivers), options.binary, options.merge_below);
-            prims_ = Prims();  // the blocks are the structure's only copy of the triangles
+        if (options.tree == bvh8::TreeSource::Thicket) {
+            const BvhData binary = bvh8::build_binary(prims_, options.binary);
+            adopt_build(binary.prim_indices, bvh8::block_count(binary, options.merge_below), options,
+                        [&](const bvh8::LeafEmitter& emit) { return bvh8::collapse(binary, emit, options.merge_below); });
         } else {
-            ids_ = binary.prim_indices;
-            tree_ = bvh8::collapse(
-                binary, [](uint32_t first, uint32_t count) { return bvh8::LeafPlacement{first, count}; },
-                options.merge_below);
-            bvh8::validate_tree(tree_, ids_.size());
+            std::vector<Aabb> prim_bounds(primitives_);
+            for (uint32_t i = 0; i < primitives_; ++i) prim_bounds[i] = prims_.bounds(i);
+            const ClipFunction clip = [this](uint32_t i, const Aabb& box) { return clipped_bounds(prims_, i, box); };
+            const bvh8::WideTree wide =
+                bvh8::build_foreign_tree({prim_bounds, clip, options.tree, options.binary.threads});
+            adopt_build(wide.prims, bvh8::block_count(wide), options,
+                        [&](const bvh8::LeafEmitter& emit) { return bvh8::write_wide_tree(wide, emit); });
         }
         adopt_layout(options.compressed);
         set_contexts();
@@ -294,6 +283,36 @@ protected:
     }
 
 private:
+    /// Stores the tree write_tree(emit) makes, whose leaves list primitives of `order` (the
+    /// builder's leaf order, blocks_needed 4-triangle blocks at most): its leaves packed into
+    /// blocks (degenerate triangles into the sliver tree) or kept as ids.
+    template <class WriteTree>
+    void adopt_build(const std::vector<uint32_t>& order, size_t blocks_needed, const Bvh8Options& options,
+                     WriteTree&& write_tree) {
+        references_ = order.size();
+        if constexpr (kBlocks) {
+            dropped_ = bvh8::count_degenerate(prims_);
+            // Exactly the blocks the tree stores (an upper bound when packing drops degenerate or
+            // repeated triangles): never reallocated while written, never copied to fit.
+            reserve_huge(blocks_, blocks_needed);
+            std::vector<uint32_t> slivers;
+            bvh8::BlockPacking packing{references_ > primitives_, &slivers};
+            tree_ = write_tree([&](uint32_t first, uint32_t count) {
+                return bvh8::pack_blocks(blocks_, prims_, order.data() + first, count, packing);
+            });
+            bvh8::validate_tree(tree_, blocks_.size());
+            // Many degenerate triangles (dropped) can leave the reservation well above the need.
+            if (blocks_.capacity() - blocks_.size() > blocks_.size() / 8) blocks_.shrink_to_fit();
+            kept_ = packing.lanes;
+            slivers_ = bvh8::build_sliver_tree(prims_, std::move(slivers), options.binary, options.merge_below);
+            prims_ = Prims();  // the blocks are the structure's only copy of the triangles
+        } else {
+            ids_ = order;
+            tree_ = write_tree([](uint32_t first, uint32_t count) { return bvh8::LeafPlacement{first, count}; });
+            bvh8::validate_tree(tree_, ids_.size());
+        }
+    }
+
     /// Points the kernels' views at the trees and leaf storage this object holds.
     void set_contexts() {
         ctx_ = {.nodes = qnodes_.empty() ? tree_.nodes.data() : nullptr,
