@@ -1,4 +1,5 @@
 #include "thicket/bench/bench_json.h"
+#include "thicket/bench/number_text.h"
 
 #include <cmath>
 #include <cstdio>
@@ -64,6 +65,14 @@ std::string bench_rows_json(std::span<const BenchRow> rows) {
         o.optional("sah_cost", r.sah_cost > 0.0 ? std::optional<double>(r.sah_cost) : std::nullopt);
         o.optional("nodes_per_ray", r.nodes_per_ray);
         o.optional("prims_per_ray", r.prims_per_ray);
+        if (!r.entered_share.empty()) {
+            std::string shares = "[";
+            for (size_t k = 0; k < r.entered_share.size(); ++k)
+                shares += (k ? "," : "") + printf_string("%.6f", r.entered_share[k]);
+            o.raw("entered_children", shares + "]");
+        } else {
+            o.raw("entered_children", "null");
+        }
         o.number("hit_rate", r.hit_rate);
         o.optional("agree", r.agree);
         if (r.agree) {

@@ -193,6 +193,21 @@ std::string scene_section(const SceneRows& scene, TableStyle style) {
     }
     out += render(speed, style);
 
+    // Children entered per interior node visit, where a counting pass reported them (bvh8).
+    using A = TextTable::Align;
+    TextTable entered({"accel", "set", "0", "1", "2", "3", "4", "5+"}, {A::Left, A::Left, A::Right, A::Right, A::Right, A::Right, A::Right, A::Right});
+    for (const std::string& a : accels)
+        for (const std::string& s : sets) {
+            const auto it = std::find_if(scene.rows.begin(), scene.rows.end(), [&](const BenchRow* r) {
+                return r->accel == a && r->set == s && !r->entered_share.empty();
+            });
+            if (it == scene.rows.end()) continue;
+            std::vector<std::string> cells{a, s};
+            for (double share : (*it)->entered_share) cells.push_back(printf_string("%.1f%%", 100.0 * share));
+            entered.add_row(cells);
+        }
+    if (entered.rows()) out += "\nchildren entered per interior node visit (counting pass), % of visits\n\n" + render(entered, style);
+
     std::vector<std::string> notes;
     if (serial_builds)
         notes.push_back("*: single-threaded builder; its one build is reported for every thread count.");

@@ -235,6 +235,10 @@ std::vector<BenchRow> bench_scene(const Scene& scene, const std::string& label, 
                 if (counted && !rays.empty()) {
                     row.nodes_per_ray = double(counters.nodes) / double(rays.size());
                     row.prims_per_ray = double(counters.prims) / double(rays.size());
+                    uint64_t visits = 0;
+                    for (uint64_t v : counters.entered) visits += v;
+                    if (visits)
+                        for (uint64_t v : counters.entered) row.entered_share.push_back(double(v) / double(visits));
                 }
                 row.hit_rate = hit_fraction(set, hits, flags);
 

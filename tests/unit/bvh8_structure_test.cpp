@@ -269,6 +269,47 @@ TEST(Bvh8Query, CountersCountNodesAndEachPrimitiveAtMostOnce) {
     }
 }
 
+// The histogram of children entered per interior visit (issue 43's branch count): a ray that
+// misses the root's children visits the root alone and enters nothing; any ray's interior visits
+// are at most its visits; every ISA counts the same histogram (the same traversal); any hit
+// on a ray that hits nothing visits exactly the root plus every child entered (none pruned), as
+// long as no visit entered 5 or more.
+TEST(Bvh8Query, CountersSayHowManyChildrenEachInteriorVisitEntered) {
+    const Scene scene = soup();
+    const std::vector<Ray> rays = testing::conformance_rays(scene, 600, 3);
+    std::vector<RayCounters> first;
+    for (Isa isa : cpu_isas()) {
+        SCOPED_TRACE(isa_name(isa));
+        auto accel = build_accel(std::string("bvh8:isa=") + isa_name(isa), scene);
+        RayCounters away;
+        const Ray miss{scene.bounds().max + Vec3(1, 1, 1), 0.0f, {1, 1, 1}, kInfinity};
+        EXPECT_FALSE(accel->intersect(miss, away).found());
+        EXPECT_EQ(away.nodes, 1u);
+        EXPECT_EQ(away.entered[0], 1u);
+        size_t exact = 0;
+        for (size_t i = 0; i < rays.size(); ++i) {
+            RayCounters c;
+            accel->intersect(rays[i], c);
+            uint64_t interior = 0;
+            for (uint64_t v : c.entered) interior += v;
+            EXPECT_GE(interior, 1u);
+            EXPECT_LE(interior, c.nodes);
+            RayCounters any;
+            if (!accel->occluded(rays[i], any) && any.entered[5] == 0) {
+                const uint64_t children = any.entered[1] + 2 * any.entered[2] + 3 * any.entered[3] + 4 * any.entered[4];
+                EXPECT_EQ(any.nodes, 1 + children) << "ray " << i;
+                ++exact;
+            }
+            if (first.size() < rays.size()) {
+                first.push_back(c);
+            } else {
+                EXPECT_EQ(std::memcmp(first[i].entered, c.entered, sizeof c.entered), 0) << "ray " << i;
+            }
+        }
+        EXPECT_GT(exact, 10u) << "rays that hit nothing, to check the any-hit count on";
+    }
+}
+
 TEST(Bvh8Query, EveryIsaAnswersBitwiseLikeTheScalarKernels) {
     // Every kernel reproduces the scalar operations, and the traversal order depends only on
     // the entry distances, so the answers are identical, ray for ray, bit for bit.

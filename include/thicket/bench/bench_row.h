@@ -2,6 +2,7 @@
 /// One row of the bench's results: one structure, one scene, one ray set, one thread count.
 #include <cstddef>
 #include <optional>
+#include <vector>
 #include <string>
 
 namespace thicket {
@@ -41,6 +42,9 @@ struct BenchRow {
     double sah_cost = 0.0;  ///< 0: unknown
 
     std::optional<double> nodes_per_ray, prims_per_ray;  ///< from the counting pass, when supported
+    /// Shares of interior node visits that entered 0, 1, 2, 3, 4, 5+ children (bvh8's counting
+    /// pass; empty for the others).
+    std::vector<double> entered_share;
     double hit_rate = 0.0;  ///< fraction of rays that hit (closest) or are occluded (any-hit)
 
     std::optional<double> agree;       ///< percent of rays agreeing with Embree-high

@@ -79,9 +79,17 @@ constexpr HitT<S> miss_for(const RayT<S>& ray) { return HitT<S>{ray.tmax, 0, 0, 
 struct RayCounters {
     uint64_t nodes = 0;  ///< interior and leaf nodes (or cells) visited
     uint64_t prims = 0;  ///< primitive intersection tests
+    /// Interior node visits by the children the ray entered there: 0, 1, 2, 3, 4, 5 or more
+    /// (bvh8's counting kernels: how many ordering decisions a visit makes; others leave it 0).
+    uint64_t entered[6] = {};
     void node() { ++nodes; }
     void prim() { ++prims; }
-    RayCounters& operator+=(const RayCounters& o) { nodes += o.nodes; prims += o.prims; return *this; }
+    RayCounters& operator+=(const RayCounters& o) {
+        nodes += o.nodes;
+        prims += o.prims;
+        for (int k = 0; k < 6; ++k) entered[k] += o.entered[k];
+        return *this;
+    }
 };
 
 struct NoCounters {
