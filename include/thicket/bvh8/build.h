@@ -56,7 +56,7 @@ BvhData build_binary(const P& prims, const BvhBuildOptions& options) {
     std::vector<Vec3> centroids;
     primitive_boxes(
         uint32_t(prims.size()), options.threads, bounds, centroids, [&](uint32_t i) { return prims.bounds(i); },
-        [&](uint32_t i) { return prims.centroid(i); });
+        [&](uint32_t i) { return prims.bounds(i).center(); });
     const ClipFunction clip = [&prims](uint32_t i, const Aabb& box) { return clipped_bounds(prims, i, box); };
     return build_bvh({bounds, centroids, clip}, options);
 }
