@@ -49,6 +49,17 @@ bool occluded_one(const Tracer& t, const Ray& r) {
     return f != 0;
 }
 
+/// The bench's four sets over `scene` at width x height pixels (the lecture BVH finds the hits
+/// the secondary sets start from).
+std::vector<RaySet> bench_sets(const Scene& scene, int width, int height) {
+    const auto bvh = build_accel("bvh", scene);
+    RaySetOptions options;
+    options.width = width;
+    options.height = height;
+    const std::vector<std::string> names{"primary", "shadow", "diffuse", "random"};
+    return generate_ray_sets(scene, *bvh, names, options, 1);
+}
+
 class EmbreeTracerTest : public ::testing::TestWithParam<EmbreeQuality> {};
 
 TEST_P(EmbreeTracerTest, BarycentricsAreTheWeightsOfVertices1And2) {
@@ -100,12 +111,7 @@ Agreement agreement_on(const RaySet& set, const Tracer& a, const Tracer& b) {
 
 TEST_P(EmbreeTracerTest, AnswersLikeBruteForceOnTheCornellBox) {
     const Scene scene = load_scene("cornell");
-    auto bvh = build_accel("bvh", scene);
-    RaySetOptions options;
-    options.width = 64;
-    options.height = 48;
-    const std::vector<std::string> names{"primary", "shadow", "diffuse", "random"};
-    const std::vector<RaySet> sets = generate_ray_sets(scene, *bvh, names, options, 1);
+    const std::vector<RaySet> sets = bench_sets(scene, 64, 48);
 
     auto embree = make_embree_tracer(GetParam());
     embree->build(scene, 0);
@@ -129,12 +135,7 @@ TEST_P(EmbreeTracerTest, DefaultStructuresAgreeOnEveryRayOfSponza) {
     const std::string path = std::string(THICKET_SHARED_SCENES) + "/sponza-dabrovic.ply";
     if (!std::ifstream(path)) GTEST_SKIP() << path << " not found: the real-scene agreement test needs ../shared";
     const Scene scene = load_scene(path);
-    auto bvh = build_accel("bvh", scene);
-    RaySetOptions options;
-    options.width = 160;
-    options.height = 120;
-    const std::vector<std::string> names{"primary", "shadow", "diffuse", "random"};
-    const std::vector<RaySet> sets = generate_ray_sets(scene, *bvh, names, options, 1);
+    const std::vector<RaySet> sets = bench_sets(scene, 160, 120);
     auto embree = make_embree_tracer(GetParam());
     embree->build(scene, 0);
     for (const char* spec : {"bvh", "kdtree"}) {
@@ -178,12 +179,7 @@ TEST_P(EmbreeTracerTest, Bvh8OnEmbreesTreeAnswersLikeBruteForce) {
             continue;
         }
         EXPECT_GT(tree->figures().nodes, 0u);
-        auto bvh = build_accel("bvh", scene);
-        RaySetOptions options;
-        options.width = 64;
-        options.height = 48;
-        const std::vector<std::string> names{"primary", "shadow", "diffuse", "random"};
-        const std::vector<RaySet> sets = generate_ray_sets(scene, *bvh, names, options, 1);
+        const std::vector<RaySet> sets = bench_sets(scene, 64, 48);
         auto brute = make_accel_tracer("brute");
         brute->build(scene, 0);
         for (const RaySet& set : sets) {

@@ -76,8 +76,8 @@ void check_interval_arguments(const RowsShape& rows, std::optional<float> tnear,
 /// of 1 MiB and more gets a mapping of its own on 2 MiB pages (take_huge_mapping, core/huge_pages.h),
 /// which the capsule returned hands back to the pool when the array dies. Writing a batch's answers
 /// into fresh memory faults every page in; on 4 KiB pages (numpy's malloc leaves most of a 4 MiB
-/// array on them) those faults cost more than converting the rows (1M rays: 40 MB, 10^4 faults,
-/// ~100 ms on the virtualized machine measured), on 2 MiB pages one fault in 512, and a kept
+/// array on them) those faults cost more than converting the rows (BENCHMARKS.md, "The module
+/// against the C++ batch API"), on 2 MiB pages one fault in 512, and a kept
 /// mapping none. `data` receives the memory; its contents are undefined (every query writes every
 /// element).
 py::capsule huge_page_memory(size_t bytes, void*& data);

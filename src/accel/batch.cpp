@@ -74,8 +74,8 @@ void Accel::count_hits(std::span<const Ray> rays, std::span<uint32_t> counts, co
     check_ray_answers("count", rays.size(), counts.size());
     refuse_coherent("count", options);
     parallel_for(rays.size(), kBatchGrain, options.threads, [&](size_t begin, size_t end) {
-        // Cold rays, long per ray: the hardware prefetcher falls behind (10^6 Sponza rays counted
-        // 40% slower from a Ray vector than the module's prefetched chunks; equal at 3*10^5).
+        // Cold rays, long per ray: the hardware prefetcher falls behind (BENCHMARKS.md, "The
+        // module against the C++ batch API": counting from a Ray vector without this).
         prefetch_range(&rays[begin], (end - begin) * sizeof(Ray));
         for (size_t i = begin; i < end; ++i) counts[i] = count_hits(rays[i]);
         if (options.progress) options.progress(end - begin);
