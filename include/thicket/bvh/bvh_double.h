@@ -74,13 +74,13 @@ private:
     template <class C>
     HitD closest(const RayD& ray, C& counters) const {
         HitD hit = miss_for(ray);
-        bvh_detail::Query<false, TrianglesD<Test>, C, BvhDataD>(data_, prims_, ray, hit, counters).run(traversal_);
+        bvh_detail::QueryOver<false, TrianglesD<Test>, C, BvhDataD>(data_, prims_, ray, hit, counters).run(traversal_);
         return hit;
     }
     template <class C>
     bool any(const RayD& ray, C& counters) const {
         HitD unused = miss_for(ray);
-        return bvh_detail::Query<true, TrianglesD<Test>, C, BvhDataD>(data_, prims_, ray, unused, counters).run(traversal_);
+        return bvh_detail::QueryOver<true, TrianglesD<Test>, C, BvhDataD>(data_, prims_, ray, unused, counters).run(traversal_);
     }
 
     TrianglesD<Test> prims_;

@@ -21,15 +21,15 @@ namespace bvh_detail {
 /// Closest hit (AnyHit = false: updates `hit`, returns whether anything was hit) or any hit
 /// (AnyHit = true: returns at the first primitive hit within [tmin, tmax]). Data is BvhData, or
 /// BvhDataD for the double BVH (the same tree with double boxes, traced with double rays).
-template <bool AnyHit, class Prims, class C, class Data = BvhData>
-struct Query : QueryState<AnyHit, Data, Prims, C, /*Records=*/true, typename Data::Scalar> {
+template <bool AnyHit, class Prims, class C, class Data>
+struct QueryOver : QueryState<AnyHit, Data, Prims, C, /*Records=*/true, typename Data::Scalar> {
     using S = typename Data::Scalar;
     using Node = typename Data::Node;
     using State = QueryState<AnyHit, Data, Prims, C, true, S>;
     using State::data, State::ray, State::counters, State::far, State::test_prims;
     const RayBoxQueryT<S> box;
 
-    Query(const Data& b, const Prims& p, const RayT<S>& r, HitT<S>& h, C& c) : State(b, p, r, h, c), box(r) {}
+    QueryOver(const Data& b, const Prims& p, const RayT<S>& r, HitT<S>& h, C& c) : State(b, p, r, h, c), box(r) {}
 
     S enter(uint32_t n) {
         counters.node();
@@ -104,6 +104,13 @@ struct Query : QueryState<AnyHit, Data, Prims, C, /*Records=*/true, typename Dat
         }
         return false;
     }
+};
+
+/// The float BVH's query, with the three parameters closest_hit/any_hit take (a template with a
+/// defaulted fourth parameter is not a template of three to clang 14).
+template <bool AnyHit, class Prims, class C>
+struct Query : QueryOver<AnyHit, Prims, C, BvhData> {
+    using QueryOver<AnyHit, Prims, C, BvhData>::QueryOver;
 };
 
 }  // namespace bvh_detail
