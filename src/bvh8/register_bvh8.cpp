@@ -2,6 +2,7 @@
 #include "accel/dispatch.h"
 #include "bvh/builder_choices.h"
 #include "thicket/bvh8/bvh8.h"
+#include "thicket/core/error.h"
 
 #include <string>
 #include <utility>
@@ -55,6 +56,21 @@ std::vector<std::string> bvh8_variants() {
     return variants;
 }
 
+/// tree=embree-* has Embree build the tree: a key of our builder set away from its default would
+/// do nothing, so it is refused (the keys that still apply: the kernels', the layout's, the test's).
+void refuse_unused_builder_keys(const AccelSpec& spec) {
+    if (spec.get("tree") == "thicket") return;
+    for (const OptionInfo& o : spec.info->options) {
+        if (o.key == "tree" || o.key == "isa" || o.key == "packets" || o.key == "nodes" || o.key == "isect" ||
+            o.key == "quality")
+            continue;
+        const std::string& value = spec.get(o.key);
+        if (value != o.default_value)
+            throw Error("bvh8: tree=" + spec.get("tree") + " builds Embree's tree, so " + o.key + "=" + value +
+                        " would do nothing (this is our builder's key): leave it at " + o.default_value);
+    }
+}
+
 }  // namespace
 
 void register_bvh8(std::vector<AccelInfo>& registry) {
@@ -93,7 +109,8 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
                          "who builds the tree: thicket (the builder keys above), or Embree's own builder "
                          "(rtcBuildBVH: embree-medium binned SAH, embree-high with its spatial splits) writing bvh8 "
                          "nodes and blocks, traced by bvh8's kernels: the bench's split of the gap to Embree into tree "
-                         "and kernel. Only `thicket bench` links Embree; elsewhere embree-* is an error",
+                         "and kernel (our builder's keys must then keep their defaults). Only `thicket bench` links "
+                         "Embree; elsewhere embree-* is an error",
                          &O::tree, kTreeSources)},
         fields_in(&O::binary, join_fields(sbvh_ploc_fields(), optimize_fields())));
     AccelInfo info = accel_info({.name = "bvh8",
@@ -104,6 +121,7 @@ void register_bvh8(std::vector<AccelInfo>& registry) {
                                  .threaded_build = true},
                                 fields);
     info.build = [fields](const Scene& scene, const AccelSpec& spec) {
+        refuse_unused_builder_keys(spec);
         return make_structure<Bvh8>(scene, spec, read_settings(fields, spec));
     };
     info.kernels = [](const AccelSpec& spec) { return std::string(isa_name(chosen_isa(spec))); };

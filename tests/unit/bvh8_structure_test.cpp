@@ -396,6 +396,23 @@ TEST(Bvh8ForeignTree, WithoutABuilderEmbreesTreesAreRefusedNamingTheBench) {
     }
 }
 
+TEST(Bvh8ForeignTree, OurBuildersKeysAreRefusedWithEmbreesTree) {
+    const InstalledBuilder installed(&grouped_tree);
+    const Scene scene = load_scene("cornell");
+    for (const char* spec : {"bvh8:tree=embree-medium,max-leaf=8", "bvh8:tree=embree-high,quality=high",
+                             "bvh8:tree=embree-medium,builder=sweep-sah"}) {
+        try {
+            build_accel(spec, scene);
+            ADD_FAILURE() << spec << " built, its builder key unused";
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find("would do nothing"), std::string::npos) << e.what();
+        }
+    }
+    // The keys that still apply, and a preset that sets only defaults, are taken.
+    EXPECT_NO_THROW(build_accel("bvh8:tree=embree-medium,isa=scalar,nodes=compressed,isect=watertight", scene));
+    EXPECT_NO_THROW(build_accel("bvh8:tree=embree-medium,quality=medium", scene));
+}
+
 TEST(Bvh8ForeignTree, AWideTreeIsWrittenAsItIsAndAnswersLikeBruteForce) {
     const InstalledBuilder installed(&grouped_tree);
     for (const Scene& scene : {load_scene("cornell"), testing::nasty_scenes().back()}) {

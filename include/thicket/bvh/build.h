@@ -25,6 +25,7 @@ inline constexpr uint32_t kParallelNodeSize = 16384;
 
 /// Bounds and centroids of primitives 0..count-1 (get_bounds(i), get_centroid(i)) on up to
 /// `threads` threads; the builders' input for any primitive set whose queries are thread-safe.
+/// bounds[i] is stored before get_centroid(i) is called, so a centroid may be read from it.
 template <class GetBounds, class GetCentroid>
 void primitive_boxes(uint32_t count, unsigned threads, std::vector<Aabb>& bounds, std::vector<Vec3>& centroids,
                      GetBounds&& get_bounds, GetCentroid&& get_centroid) {

@@ -47,16 +47,18 @@ struct WideTree {
     std::vector<uint32_t> prims;      ///< primitive ids (a spatial split may list one in several leaves)
 };
 
-/// The binary BVH over every primitive of `prims` that the collapse starts from: their bounds and
-/// centroids gathered on options.threads threads, spatial splits (sbvh) clipping them exactly
-/// where the set can (clipped_bounds).
+/// The binary BVH over every primitive of `prims` that the collapse starts from: their bounds
+/// gathered on options.threads threads and binned by the boxes' centres (as Embree's builders
+/// bin: a lower SAH than the vertex centroid on every shared scene, BENCHMARKS.md "Tree against
+/// kernel"), spatial splits (sbvh) clipping them exactly where the set can (clipped_bounds).
 template <PrimitiveSet P>
 BvhData build_binary(const P& prims, const BvhBuildOptions& options) {
     std::vector<Aabb> bounds;
     std::vector<Vec3> centroids;
+    // primitive_boxes stores bounds[i] before it asks for centroid i: the centre reads it.
     primitive_boxes(
         uint32_t(prims.size()), options.threads, bounds, centroids, [&](uint32_t i) { return prims.bounds(i); },
-        [&](uint32_t i) { return prims.bounds(i).center(); });
+        [&](uint32_t i) { return bounds[i].center(); });
     const ClipFunction clip = [&prims](uint32_t i, const Aabb& box) { return clipped_bounds(prims, i, box); };
     return build_bvh({bounds, centroids, clip}, options);
 }
