@@ -61,7 +61,7 @@ py::dict cast_rays(AccelHandle& h, const py::handle& rays_obj, unsigned threads,
     o.stream_when_large(rows.count);
     {
         py::gil_scoped_release nogil;
-        for_each_ray_chunk(ray_rows(rows), threads, [&](const RayChunk& c) {
+        for_each_ray_chunk(ray_rows(rows), threads, reorder_from(BatchOptions{}), [&](const RayChunk& c) {
             Uninitialized<Hit> hits;
             h.accel->intersect_chunk(c.span(), {hits.data, c.count}, coherent);
             o.put_chunk(c, hits.data, table, miss_entry);
@@ -83,10 +83,11 @@ py::array test_occlusions(const AccelHandle& h, const py::handle& rays_obj, std:
     bool* out = result.mutable_data();
     {
         py::gil_scoped_release nogil;
-        for_each_ray_chunk(ray_rows(rows, tnear.value_or(0.0f), tfar.value_or(kInfinity)), threads, [&](const RayChunk& c) {
+        for_each_ray_chunk(ray_rows(rows, tnear.value_or(0.0f), tfar.value_or(kInfinity)), threads, reorder_from(options),
+                           [&](const RayChunk& c) {
             uint8_t occluded[kBatchGrain];
             h.accel->occluded_chunk(c.span(), {occluded, c.count});
-            if (!c.complete()) std::fill(out + c.begin, out + c.end, false);
+            c.for_each_row_without_ray([&](size_t row) { out[row] = false; });
             for (size_t k = 0; k < c.count; ++k) out[c.row(k)] = occluded[k] != 0;
         });
     }
@@ -150,8 +151,8 @@ py::array count_intersections(const AccelHandle& h, const py::handle& rays_obj, 
     int32_t* out = result.mutable_data();
     {
         py::gil_scoped_release nogil;
-        for_each_ray_chunk(ray_rows(rows), threads, [&](const RayChunk& c) {
-            if (!c.complete()) std::fill(out + c.begin, out + c.end, 0);
+        for_each_ray_chunk(ray_rows(rows), threads, reorder_from(BatchOptions{}), [&](const RayChunk& c) {
+            c.for_each_row_without_ray([&](size_t row) { out[row] = 0; });
             for (size_t k = 0; k < c.count; ++k) out[c.row(k)] = int32_t(h.accel->count_hits(c.rays.data[k]));
         });
     }

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "thicket/accel/accel.h"
+#include "thicket/accel/ray_order.h"
 #include "thicket/core/error.h"
 #include "thicket/util/parallel.h"
 #include "thicket/util/prefetch.h"
@@ -25,20 +26,70 @@ void refuse_coherent(const char* query, const BatchOptions& options) {
                     "than ignored");
 }
 
+namespace {
+
+/// A worker's scratch for reordered blocks.
+template <class Answer>
+struct ReorderScratch {
+    RayOrder order;
+    std::vector<Ray> rays;
+    std::vector<Answer> answers;
+};
+
+/// out[i] is the answer to rays[i]: answer(rays, answers) answers a chunk of at most kBatchGrain
+/// rays on the calling thread. Reordered (BatchOptions::reorder) unless the batch is coherent or
+/// short: the rest of each block whose second chunk proves costly (accel/ray_order.h) is sorted,
+/// traced in that order and its answers put back in place.
+template <class Answer, class AnswerChunk>
+void answer_batch(std::span<const Ray> rays, std::span<Answer> out, const BatchOptions& options, AnswerChunk&& answer) {
+    const double from_ns = reorder_from(options);
+    if (std::isinf(from_ns) || rays.size() < kReorderMin) {
+        parallel_for(rays.size(), kBatchGrain, options.threads, [&](size_t begin, size_t end) {
+            answer(rays.subspan(begin, end - begin), out.subspan(begin, end - begin));
+            if (options.progress) options.progress(end - begin);
+        });
+        return;
+    }
+    const size_t block = reorder_block(rays.size(), resolve_threads(options.threads));
+    auto chunks = [&](std::span<const Ray> in, std::span<Answer> answers) {
+        for (size_t k = 0; k < in.size(); k += kBatchGrain) {
+            const size_t m = std::min(kBatchGrain, in.size() - k);
+            answer(in.subspan(k, m), answers.subspan(k, m));
+            if (options.progress) options.progress(m);
+        }
+    };
+    parallel_for_with<ReorderScratch<Answer>>(rays.size(), block, options.threads,
+                                              [&](size_t begin, size_t end, ReorderScratch<Answer>& s) {
+        // The first two chunks as given, the second timed (the first may find the structure, or
+        // this block's rays, out of the cache): cheap rays trace the rest of the block as given too.
+        const size_t probe = std::min(end, begin + kBatchGrain), from = std::min(end, probe + kBatchGrain);
+        const size_t n = end - from;
+        chunks(rays.subspan(begin, probe - begin), out.subspan(begin, probe - begin));
+        if (!costly_rays(from - probe, from_ns, [&] { chunks(rays.subspan(probe, from - probe), out.subspan(probe, from - probe)); }))
+            return chunks(rays.subspan(from, n), out.subspan(from, n));
+        s.order.sort(n, [&](size_t i, Vec3& org, Vec3& dir) { org = rays[from + i].org, dir = rays[from + i].dir; });
+        s.rays.resize(n);
+        s.answers.resize(n);
+        for (size_t k = 0; k < n; ++k) s.rays[k] = rays[from + s.order.order[k]];
+        chunks(s.rays, s.answers);
+        for (size_t k = 0; k < n; ++k) out[from + s.order.order[k]] = s.answers[k];
+    });
+}
+
+}  // namespace
+
 void Accel::intersect(std::span<const Ray> rays, std::span<Hit> hits, const BatchOptions& options) const {
     check_ray_answers("closest-hit", rays.size(), hits.size());
-    parallel_for(rays.size(), kBatchGrain, options.threads, [&](size_t begin, size_t end) {
-        intersect_chunk(rays.subspan(begin, end - begin), hits.subspan(begin, end - begin), options.coherent);
-        if (options.progress) options.progress(end - begin);
+    answer_batch<Hit>(rays, hits, options, [&](std::span<const Ray> chunk, std::span<Hit> answers) {
+        intersect_chunk(chunk, answers, options.coherent);
     });
 }
 
 void Accel::occluded(std::span<const Ray> rays, std::span<uint8_t> out, const BatchOptions& options) const {
     check_ray_answers("any-hit", rays.size(), out.size());
     refuse_coherent("any-hit", options);
-    parallel_for(rays.size(), kBatchGrain, options.threads, [&](size_t begin, size_t end) {
-        occluded_chunk(rays.subspan(begin, end - begin), out.subspan(begin, end - begin));
-        if (options.progress) options.progress(end - begin);
+    answer_batch<uint8_t>(rays, out, options, [&](std::span<const Ray> chunk, std::span<uint8_t> answers) {
+        occluded_chunk(chunk, answers);
     });
 }
 

@@ -85,17 +85,23 @@ void HitColumns::put(size_t row, const Hit& hit, const Vec3& n) const {
 }
 
 void HitColumns::put_chunk(const RayChunk& c, const Hit* hits, const Vec3* normals, uint32_t miss_entry) const {
+    if (c.sorted && stream) {
+        // A reordered block's rows are scattered over its range: streamed, each 4-byte store would
+        // send a partial line to memory; through the cache the rows of a line merge before they leave.
+        HitColumns cached = *this;
+        cached.stream = false;
+        return cached.put_chunk(c, hits, normals, miss_entry);
+    }
     if (normals)  // the table is cold (tracing evicts it): its misses overlap when asked for first
         for (size_t k = 0; k < c.count; ++k)
             if (hits[k].found()) __builtin_prefetch(normals + hits[k].prim);
     size_t k = 0;
 #if defined(__SSE2__)
     // Nearly every chunk: c.begin and k are multiples of 4.
-    if (c.complete() && normals && scene->geometry_count() <= 1)
+    if (c.contiguous() && normals && scene->geometry_count() <= 1)
         for (; k + 4 <= c.count; k += 4) put4(*this, c.begin + k, hits + k, normals, miss_entry);
 #endif
-    if (!c.complete())  // rows without a ray are misses
-        for (size_t row = c.begin; row < c.end; ++row) put(row, Hit{}, Vec3{0, 0, 0});
+    c.for_each_row_without_ray([&](size_t row) { put(row, Hit{}, Vec3{0, 0, 0}); });  // misses
     for (; k < c.count; ++k) {
         const Hit& hit = hits[k];
         const Vec3 n = !hit.found() ? Vec3{0, 0, 0} : normals ? normals[hit.prim] : scene->normal(c.rays.data[k], hit);

@@ -56,16 +56,18 @@ inline bool store_ray(__m128 a, __m128 b, Ray& ray) {
 }
 #endif
 
-/// fill_chunk for rows of `Width` floats. Row i becomes ray i - begin, and whether it has a
+/// fill_chunk for rows of `Width` floats (Sorted: the chunk's rows are sorted_base + sorted[j]).
+/// Position j becomes ray j, and whether it has a
 /// meaning is only summed, so that no store waits for the previous row's checks (compacting as
 /// it goes made each row's store address depend on them: a chain of ~10 cycles per row). Rows
 /// without a meaning are rare; then a second pass compacts the chunk.
-template <size_t Width>
-void fill_rows(const RayRows& rows, size_t begin, size_t end, RayChunk& chunk) {
+template <size_t Width, bool Sorted>
+void fill_rows(const RayRows& rows, RayChunk& chunk) {
     size_t count = 0;
-    for (size_t i = begin; i < end; ++i) {
-        const float* r = rows.data + Width * i;
-        Ray& ray = chunk.rays.data[i - begin];
+    const size_t n = chunk.end - chunk.begin;
+    for (size_t j = 0; j < n; ++j) {
+        const float* r = rows.data + Width * (Sorted ? chunk.sorted_base + chunk.sorted[j] : chunk.begin + j);
+        Ray& ray = chunk.rays.data[j];
 #if defined(__SSE2__)
         const __m128 a = _mm_loadu_ps(r);
         __m128 b;
@@ -86,9 +88,9 @@ void fill_rows(const RayRows& rows, size_t begin, size_t end, RayChunk& chunk) {
 #endif
     }
     chunk.count = count;
-    if (count == end - begin) return;
+    if (count == n) return;
     size_t k = 0;
-    for (size_t j = 0; j < end - begin; ++j)
+    for (size_t j = 0; j < n; ++j)
         if (has_meaning(chunk.rays.data[j])) {
             chunk.rays.data[k] = chunk.rays.data[j];
             chunk.offset[k++] = uint16_t(j);
@@ -104,11 +106,11 @@ size_t answer_rows(const RayRows& rows, std::span<Answer> out, const BatchOption
         throw Error("rays: " + std::to_string(rows.count) + " rows but room for " + std::to_string(out.size()) +
                     " answers");
     std::atomic<size_t> without_ray{0};
-    for_each_ray_chunk(rows, options.threads, [&](const RayChunk& c) {
+    for_each_ray_chunk(rows, options.threads, reorder_from(options), [&](const RayChunk& c) {
         Uninitialized<Answer> answers;
         trace(c, answers.data);
         if (!c.complete()) {
-            std::fill(out.begin() + std::ptrdiff_t(c.begin), out.begin() + std::ptrdiff_t(c.end), miss);
+            c.for_each_row_without_ray([&](size_t row) { out[row] = miss; });
             without_ray += c.end - c.begin - c.count;
         }
         for (size_t k = 0; k < c.count; ++k) out[c.row(k)] = answers.data[k];
@@ -119,14 +121,17 @@ size_t answer_rows(const RayRows& rows, std::span<Answer> out, const BatchOption
 
 }  // namespace
 
-void fill_chunk(const RayRows& rows, size_t begin, size_t end, RayChunk& chunk) {
+void fill_chunk(const RayRows& rows, size_t begin, size_t end, RayChunk& chunk, const uint32_t* sorted,
+                size_t sorted_base) {
     static_assert(kBatchGrain <= 65536, "RayChunk::offset is 16 bits");
     chunk.begin = begin;
     chunk.end = end;
+    chunk.sorted = sorted;
+    chunk.sorted_base = sorted_base;
     if (rows.width == 8)
-        fill_rows<8>(rows, begin, end, chunk);
+        sorted ? fill_rows<8, true>(rows, chunk) : fill_rows<8, false>(rows, chunk);
     else
-        fill_rows<6>(rows, begin, end, chunk);
+        sorted ? fill_rows<6, true>(rows, chunk) : fill_rows<6, false>(rows, chunk);
 }
 
 RayBatch make_rays(const RayRows& rows, unsigned threads) {

@@ -102,7 +102,7 @@ TEST(HitColumns, FourRowStoresWriteWhatPutWrites) {
                 std::vector<Hit> found(c.count);
                 accel->intersect_chunk(c.span(), found, false);
                 a.put_chunk(c, found.data(), table.data(), miss_entry);
-                for (size_t row = c.begin; row < c.end; ++row) b.put(row, Hit{}, Vec3{0, 0, 0});
+                c.for_each_row_without_ray([&](size_t row) { b.put(row, Hit{}, Vec3{0, 0, 0}); });
                 for (size_t k = 0; k < c.count; ++k) {
                     b.put(c.row(k), found[k], found[k].found() ? table[found[k].prim] : Vec3{0, 0, 0});
                     (found[k].found() ? hits : misses) += 1;

@@ -170,14 +170,20 @@ TEST(RayRows, TheConversionAcceptsExactlyWhatMakeRayAccepts) {
     const float specials[] = {0.0f, -0.0f, 1.0f, -2.5f, inf, -inf, nan, std::numeric_limits<float>::max(), 1e-40f};
     std::mt19937 rng(3);
     std::uniform_int_distribution<int> pick(0, int(std::size(specials)) - 1);
+    // As given and reordered (accel/ray_order.h: blocks sorted by octant and origin, n above
+    // kReorderMin): every row is a ray of exactly one chunk or a row without one, never both.
+    for (const bool reorder : {false, true})
     for (size_t width : {size_t(8), size_t(6)}) {
         std::vector<float> data;
-        const size_t n = 3000;  // several chunks, most with rows without a ray
+        const size_t n = 10000;  // several chunks and blocks, most chunks with rows without a ray
         for (size_t i = 0; i < n; ++i)
             for (size_t c = 0; c < width; ++c) data.push_back(rng() % 3 ? float(int(rng() % 5)) - 2.0f : specials[pick(rng)]);
         const RayRows rows{data.data(), n, width, 0.5f, 40.0f};
-        std::vector<uint8_t> seen(n, 0);
-        for_each_ray_chunk(rows, 2, [&](const RayChunk& c) {
+        std::vector<uint8_t> seen(n, 0), without(n, 0);
+        std::atomic<size_t> sorted_chunks{0};
+        for_each_ray_chunk(rows, 2, reorder ? 0.0 : INFINITY, [&](const RayChunk& c) {
+            sorted_chunks += c.sorted != nullptr;
+            c.for_each_row_without_ray([&](size_t row) { ++without[row]; });
             for (size_t k = 0; k < c.count; ++k) {
                 const size_t row = c.row(k);
                 const float* r = &data[width * row];
@@ -189,15 +195,17 @@ TEST(RayRows, TheConversionAcceptsExactlyWhatMakeRayAccepts) {
                             got.dir.x == want.dir.x && got.dir.y == want.dir.y && got.dir.z == want.dir.z &&
                             got.tmin == want.tmin && got.tmax == want.tmax)
                     << "row " << row;
-                seen[row] = 1;
+                ++seen[row];
             }
         });
+        EXPECT_EQ(sorted_chunks != 0, reorder);
         size_t valid = 0;
         for (size_t i = 0; i < n; ++i) {
             const float* r = &data[width * i];
             const float full[8] = {r[0], r[1], r[2], r[3], r[4], r[5], width == 8 ? r[6] : 0.5f, width == 8 ? r[7] : 40.0f};
             Ray unused;
             ASSERT_EQ(seen[i] != 0, make_ray(full, unused)) << "row " << i << " width " << width;
+            ASSERT_EQ(seen[i] + without[i], 1) << "row " << i << " width " << width << " reorder " << reorder;
             valid += seen[i];
         }
         EXPECT_GT(valid, n / 10);

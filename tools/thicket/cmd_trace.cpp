@@ -28,6 +28,7 @@ struct TraceArgs {
     bool count = false;
     bool all = false;
     bool coherent = false;
+    bool reorder = false;
     bool force = false;
     unsigned threads = 0;
 };
@@ -138,6 +139,9 @@ int trace_rays(const TraceArgs& args, const std::string& output, const Accel& ac
     std::vector<uint8_t> occluded(args.any_hit ? n : 0);
     Progress progress("trace", n, "rays");
     batch.coherent = args.coherent;
+    batch.reorder = args.reorder;
+    // Float rows go through for_each_ray_chunk, which reorders; float64 rows are traced as given.
+    const bool reordered = !kDouble<Rays> && batch.reorder && !batch.coherent && n >= kReorderMin;
     batch.progress = [&](size_t done) { progress.advance(done); };
     const auto start = std::chrono::steady_clock::now();
     const size_t invalid =
@@ -150,10 +154,11 @@ int trace_rays(const TraceArgs& args, const std::string& output, const Accel& ac
     else
         for (const HitT& h : hits) found += h.found();
 
-    std::printf("trace   %s %s rays in %s, %s rays/s%s: %zu %s, %zu not\n",
+    std::printf("trace   %s %s rays in %s, %s rays/s%s%s: %zu %s, %zu not\n",
                 args.any_hit ? "any-hit" : "closest-hit", format_si(double(n)).c_str(),
                 format_duration(seconds).c_str(), format_si(seconds > 0 ? double(n) / seconds : 0.0).c_str(),
-                kPrecisionNote<Rays>, found, args.any_hit ? "occluded" : "hit", n - found);
+                kPrecisionNote<Rays>, reordered ? " (reordered where costly, sort included)" : "", found,
+                args.any_hit ? "occluded" : "hit", n - found);
     if (invalid)
         std::printf("note    %zu rays were invalid (NaN, infinite origin or direction, zero direction or "
                     "tmin > tmax) and count as misses\n", invalid);
@@ -230,6 +235,11 @@ Command add_trace_command(CLI::App& app) {
                   "a hint that consecutive rays are neighbours (a camera's pixels in 4x4 tiles, or along a row): "
                   "structures with a packet path (bvh8) then trace 16 at a time; the answers are the same. Closest "
                   "hits of float32 rays only: refused with --any-hit, --count, --all and float64 rays");
+    cmd->add_flag("--reorder", args->reorder,
+                  "trace a batch of 4096 float32 rays or more (not --coherent) in blocks of up to 65536, each block "
+                  "whose rays cost 200 ns or more sorted by direction octant and origin, each answer written to its "
+                  "own row: the same answers, 1.05-1.13x faster on costly incoherent rays of interior scenes, slower "
+                  "on rays that start on a surface in image order (the dragon's diffuse rays: 0.85x)");
     add_threads_option(cmd, args->threads);
     return {cmd, [args] { return run_trace(*args); }};
 }

@@ -52,6 +52,10 @@ struct AccelStats {
     std::vector<std::pair<std::string, std::string>> extra;  ///< structure-specific figures
 };
 
+/// A block of a reordered batch is sorted when its second chunk took at least this long a ray as
+/// given (accel/ray_order.h: the sort costs about 10 ns a ray, and cheaper rays gain nothing).
+inline constexpr double kReorderFromNs = 200.0;
+
 /// How a batch of rays is traced (Accel::intersect / occluded over spans).
 struct BatchOptions {
     unsigned threads = 0;  ///< 0: all cores
@@ -61,6 +65,15 @@ struct BatchOptions {
     /// path and refuse it (refuse_coherent), so that a hint which changes nothing is not taken for one
     /// that did.
     bool coherent = false;
+    /// True: batches of at least kReorderMin rays that are not coherent are traced in blocks, each
+    /// block sorted by direction octant and origin (accel/ray_order.h) when its second chunk took
+    /// at least reorder_from_ns a ray, and each answer written back to its ray's place: the same
+    /// answers, 1.05-1.13x faster on the interior scenes' diffuse and random sets, but 0.83-0.89x
+    /// on the dragon's diffuse rays (BENCHMARKS.md, "Reordered batches"), hence off by default.
+    bool reorder = false;
+    /// The cost a ray (nanoseconds, as the second chunk of a block measures it) from which that
+    /// block is sorted: 0 sorts every block.
+    double reorder_from_ns = kReorderFromNs;
     /// Called with the number of rays just finished, from whichever thread finished them (for a
     /// progress bar); may be empty. Must not throw.
     std::function<void(size_t)> progress;

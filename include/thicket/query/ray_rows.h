@@ -4,14 +4,17 @@
 /// module) reads rows through here, so a row means the same ray everywhere: make_ray() (core/ray.h)
 /// says which rows have a meaning, and a row without one is answered as a miss.
 #include <algorithm>
+#include <cmath>
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <utility>
 #include <vector>
 
 #include "thicket/accel/accel.h"
+#include "thicket/accel/ray_order.h"
 #include "thicket/core/ray.h"
 #include "thicket/util/parallel.h"
 #include "thicket/util/prefetch.h"
@@ -45,35 +48,92 @@ struct Uninitialized {
     Uninitialized() {}
 };
 
-/// Rows [begin, end) of a batch as rays, converted by the thread that traces them and kept on its
-/// stack: the rays never make a round trip through memory, and no array of rays or answers as
-/// large as the batch is allocated and first touched. Rows without a meaning are left out: ray k
-/// is row begin + k of a complete chunk, else row begin + offset[k].
+/// Rows of a batch as rays, converted by the thread that traces them and kept on its stack: the
+/// rays never make a round trip through memory, and no array of rays or answers as large as the
+/// batch is allocated and first touched. The chunk holds positions [begin, end) of the batch in
+/// the order it is traced: rows begin.. end - 1 as given, or in a reordered block
+/// (accel/ray_order.h) the rows `sorted_base + sorted[j]`. Rows without a meaning are left out:
+/// ray k is position k of a complete chunk, else position offset[k].
 struct RayChunk {
     alignas(64) Uninitialized<Ray> rays;  // no ray across two cache lines
     uint16_t offset[kBatchGrain];
     size_t count = 0;
     size_t begin = 0;
     size_t end = 0;
-    /// Whether every row became a ray (else the caller answers the others as misses first).
+    const uint32_t* sorted = nullptr;  ///< a reordered block's rows, from the chunk's first position
+    size_t sorted_base = 0;            ///< the block's first row
+    /// Whether every row became a ray (else the caller answers the others as misses).
     bool complete() const { return count == end - begin; }
+    /// Whether ray k is row begin + k for every k.
+    bool contiguous() const { return complete() && !sorted; }
+    /// The row at position j of the chunk (0 <= j < end - begin), a ray or not.
+    size_t row_at(size_t j) const { return sorted ? sorted_base + sorted[j] : begin + j; }
     /// The row of ray k.
-    size_t row(size_t k) const { return begin + (complete() ? k : offset[k]); }
+    size_t row(size_t k) const { return row_at(complete() ? k : offset[k]); }
+    /// Calls f(row) for each row of the chunk that has no ray.
+    template <class F>
+    void for_each_row_without_ray(F&& f) const {
+        if (complete()) return;
+        size_t k = 0;  // offset[] lists the positions with a ray, in increasing order
+        for (size_t j = 0; j < end - begin; ++j) {
+            if (k < count && offset[k] == j)
+                ++k;
+            else
+                f(row_at(j));
+        }
+    }
     std::span<const Ray> span() const { return {rays.data, count}; }
 };
 
-/// Converts rows [begin, end) (at most kBatchGrain) of `rows` into `chunk`, with make_ray()'s checks.
-void fill_chunk(const RayRows& rows, size_t begin, size_t end, RayChunk& chunk);
+/// Converts positions [begin, end) (at most kBatchGrain) of `rows` into `chunk`, with make_ray()'s
+/// checks: rows begin.. end - 1, or with `sorted` the rows sorted_base + sorted[j], j < end - begin.
+void fill_chunk(const RayRows& rows, size_t begin, size_t end, RayChunk& chunk, const uint32_t* sorted = nullptr,
+                size_t sorted_base = 0);
 
 /// Calls f(const RayChunk&) for the rows in chunks of kBatchGrain on `threads` threads (0: all
 /// cores): each chunk is converted, answered and written out by one thread, which asks the
 /// structure for that chunk alone (Accel::intersect_chunk and its kin): the batch is split once.
-/// Each thread claims its next chunk before it handles the current one and asks for the next
-/// one's rows first, so that they arrive while it traces: a batch's rows are cold, and the
-/// conversion would otherwise wait for them. An exception from f stops every thread's next chunk
-/// and reaches the caller.
+/// `reorder_from_ns` (reorder_from(options); infinity: as given): a batch of kReorderMin rows or
+/// more is handed out in blocks; a thread traces a block's first two chunks as given and, when
+/// the second cost at least reorder_from_ns a ray (costly_rays), sorts the rest (RayOrder) and
+/// converts it chunk by chunk in that order. Each thread asks for the next chunk's rows before
+/// it traces the current one (a batch's rows are cold, and the conversion would otherwise wait
+/// for them; a sorted block's rows are read by its sort first).
+/// An exception from f stops every thread's next chunk and reaches the caller.
 template <class F>
-void for_each_ray_chunk(const RayRows& rows, unsigned threads, F&& f) {
+void for_each_ray_chunk(const RayRows& rows, unsigned threads, double reorder_from_ns, F&& f) {
+    if (!std::isinf(reorder_from_ns) && rows.count >= kReorderMin) {
+        struct Scratch {
+            RayOrder order;
+            RayChunk chunk;
+        };
+        const size_t block = reorder_block(rows.count, resolve_threads(threads));
+        parallel_for_with<Scratch>(rows.count, block, threads, [&](size_t begin, size_t end, Scratch& s) {
+            auto as_given = [&](size_t first, size_t last) {
+                for (size_t k = first; k < last; k += kBatchGrain) {
+                    fill_chunk(rows, k, std::min(last, k + kBatchGrain), s.chunk);
+                    const size_t ahead = std::min(end, k + kBatchGrain), beyond = std::min(end, ahead + kBatchGrain);
+                    prefetch_range(rows.data + rows.width * ahead, (beyond - ahead) * rows.width * sizeof(float));
+                    f(static_cast<const RayChunk&>(s.chunk));
+                }
+            };
+            // The first two chunks as given, the second timed (the first may find the structure, or
+            // this block's rows, out of the cache): cheap rays trace the rest of the block as given.
+            const size_t probe = std::min(end, begin + kBatchGrain), from = std::min(end, probe + kBatchGrain);
+            as_given(begin, probe);
+            if (!costly_rays(from - probe, reorder_from_ns, [&] { as_given(probe, from); })) return as_given(from, end);
+            s.order.sort(end - from, [&](size_t i, Vec3& org, Vec3& dir) {
+                const float* r = rows.data + rows.width * (from + i);
+                org = {r[0], r[1], r[2]};
+                dir = {r[3], r[4], r[5]};
+            });
+            for (size_t k = from; k < end; k += kBatchGrain) {
+                fill_chunk(rows, k, std::min(end, k + kBatchGrain), s.chunk, s.order.order.data() + (k - from), from);
+                f(static_cast<const RayChunk&>(s.chunk));
+            }
+        });
+        return;
+    }
     const size_t chunks = (rows.count + kBatchGrain - 1) / kBatchGrain;
     const size_t workers = std::min<size_t>(resolve_threads(threads), chunks);
     std::atomic<size_t> next{0};

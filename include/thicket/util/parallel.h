@@ -70,4 +70,26 @@ void parallel_for(size_t count, size_t grain, unsigned threads, F&& f) {
     if (error) std::rethrow_exception(error);
 }
 
+/// parallel_for whose workers each own a State (default-constructed once per worker): f(begin,
+/// end, state) for every chunk, with the state of the worker running it, so that scratch memory
+/// is allocated once per worker rather than once per chunk. The same exception rule.
+template <class State, class F>
+void parallel_for_with(size_t count, size_t grain, unsigned threads, F&& f) {
+    if (count == 0) return;
+    grain = std::max<size_t>(grain, 1);
+    const size_t chunks = (count + grain - 1) / grain;
+    const size_t workers = std::min<size_t>(resolve_threads(threads), chunks);
+    std::atomic<size_t> next{0};
+    parallel_for(workers, 1, unsigned(workers), [&](size_t, size_t) {
+        State state;
+        try {
+            for (size_t chunk = next++; chunk < chunks; chunk = next++)
+                f(chunk * grain, std::min(count, (chunk + 1) * grain), state);
+        } catch (...) {
+            next.store(chunks);  // the other workers start no further chunk
+            throw;
+        }
+    });
+}
+
 }  // namespace thicket
