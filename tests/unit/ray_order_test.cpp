@@ -18,8 +18,7 @@
 #include "thicket/query/ray_rows.h"
 #include "support/test_scenes.h"
 
-namespace thicket {
-namespace {
+namespace thicket::ray_order_test {
 
 std::vector<Ray> random_rays(size_t n, uint32_t seed, float spread = 1.0f) {
     std::mt19937 rng(seed);
@@ -226,5 +225,4 @@ TEST(ReorderedBatches, RealStructuresAnswerBitForBitAsGiven) {
     }
 }
 
-}  // namespace
-}  // namespace thicket
+}  // namespace thicket::ray_order_test
