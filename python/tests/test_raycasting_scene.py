@@ -3,11 +3,14 @@ primitive ids against brute force over the combined scene and against each geome
 triangles, the build after add_triangles, set_vertices + refit against a rebuild, and Open3D's
 documented examples run as written (against Debian's Open3D where it is importable)."""
 
+import logging
+import os
+
 import numpy as np
 import pytest
 
 import thicket
-from conftest import cube_arrays, random_rays
+from conftest import SHARED_SCENES, cube_arrays, random_rays
 
 INVALID = 4294967295
 
@@ -474,3 +477,119 @@ def test_open3d_answers_the_same_distances_and_closest_points():
     box_id = ours.add_triangles(mesh)
     hit = ours.cast_rays(o3d.core.Tensor([[5.5, 0.5, -10, 0, 0, 1]], dtype=o3d.core.Dtype.Float32))
     assert box_id == 3 and hit["geometry_ids"].tolist() == [3] and hit["t_hit"].tolist() == [10.0]
+
+
+def scan_like_mesh():
+    """A height field near (100, 50, 20) with cells of 0.05 and fill triangles whose three vertices
+    lie on one grid row (collinear at the build, as scans and CAD exports hold thousands of): a
+    rotation with a non-uniform scale gives them an interior through float rounding."""
+    n, cell = 40, 0.05
+    i, j = np.meshgrid(np.arange(n + 1), np.arange(n + 1), indexing="ij")
+    z = 0.1 * np.sin(0.3 * i) * np.cos(0.2 * j)
+    v = np.column_stack((100 + i.ravel() * cell, 50 + j.ravel() * cell, 20 + z.ravel())).astype(np.float32)
+    at = lambda a, b: a * (n + 1) + b  # noqa: E731
+    t = [(at(a, b), at(a + 1, b), at(a, b + 1)) for a in range(n) for b in range(n)]
+    t += [(at(a + 1, b), at(a + 1, b + 1), at(a, b + 1)) for a in range(n) for b in range(n)]
+    # The fills: three vertices of their own along one grid row at one height (exactly collinear).
+    rows = [(a, b) for a in range(0, n - 1, 2) for b in range(0, n + 1, 4)]
+    fills = np.array([(100 + (a + k) * cell, 50 + b * cell, 20.3) for a, b in rows for k in range(3)], np.float32)
+    first = len(v)
+    t += [(first + 3 * r, first + 3 * r + 1, first + 3 * r + 2) for r in range(len(rows))]
+    return np.concatenate([v, fills]), np.array(t, np.uint32)
+
+
+def affine_motions():
+    """A turn (0.7 rad about z, then 0.4 about x), the turn after a scale (1.7, 0.3, 2.3), the
+    turn after a mirror in x: (name, 3x3 matrix)."""
+    cz, sz, cx, sx = np.cos(0.7), np.sin(0.7), np.cos(0.4), np.sin(0.4)
+    turn = np.array([[1, 0, 0], [0, cx, -sx], [0, sx, cx]]) @ np.array([[cz, -sz, 0], [sz, cz, 0], [0, 0, 1]])
+    return [("rigid", turn), ("affine", turn @ np.diag([1.7, 0.3, 2.3])), ("mirror", turn @ np.diag([-1.0, 1, 1]))]
+
+
+def degenerate(v, t):
+    """Triangles::degenerate, in numpy: the sine between the edges at or below 1e-6."""
+    a, b, c = (v[t[:, k]] for k in range(3))
+    e1, e2 = (b - a).astype(np.float64), (c - a).astype(np.float64)
+    n = np.cross(b - a, c - a).astype(np.float64)  # the cross product in float32, as the library
+    return ~((n * n).sum(1) > 1e-12 * (e1 * e1).sum(1) * (e2 * e2).sum(1))
+
+
+def scan_and_cad_meshes():
+    yield "scan-like", scan_like_mesh()
+    path = SHARED_SCENES / "sibenik.ply"  # a CAD export whose rigid and affine moves bvh8 once refused
+    if path.exists():
+        s = thicket.load_scene(str(path))
+        yield "sibenik", (np.asarray(s.vertices, np.float32), np.asarray(s.triangles, np.uint32))
+
+
+@pytest.mark.parametrize("accel", ["bvh8", "bvh", "obb"])
+def test_scans_and_cad_meshes_refit_under_rigid_affine_and_mirrored_motions(accel):
+    """The user's case: set_vertices with a rotation, a non-uniform scale, a mirror, then refit():
+    no error, no rebuild behind the user's back (refit_rebuilds stays 0), and the answers a fresh
+    scene over the moved vertices gives."""
+    meshes = list(scan_and_cad_meshes())
+    assert len(meshes) == 2 or os.environ.get("THICKET_REFUSE_SKIPS") != "1", "../shared/scenes/sibenik.ply absent"
+    for name, (v, t) in meshes:
+        for motion, m in affine_motions():
+            w = (v.astype(np.float64) @ m.T + [0.3, -0.2, 0.1]).astype(np.float32)
+            if name == "scan-like" and motion == "affine":
+                assert (degenerate(v, t) & ~degenerate(w, t)).sum() > 50, "the fills must gain an interior"
+            scene = thicket.RaycastingScene(accel=accel)
+            scene.add_triangles(v, t)
+            rays = random_rays(thicket.Scene(w, t), 3000, seed=4, width=6)
+            scene.cast_rays(rays)  # built at rest
+            scene.set_vertices(0, w)
+            scene.refit()
+            assert scene.refit_rebuilds == 0, (name, motion)
+            fresh = thicket.RaycastingScene(accel=accel)
+            fresh.add_triangles(w, t)
+            got, want = scene.cast_rays(rays), fresh.cast_rays(rays)
+            assert np.isfinite(want["t_hit"]).sum() > 500, (name, motion)
+            np.testing.assert_array_equal(got["t_hit"], want["t_hit"], err_msg=f"{name} {motion}")
+            # Another triangle at the very same t is a tie (a shared edge): either is the answer.
+            ties = got["primitive_ids"] != want["primitive_ids"]
+            assert ties.sum() <= 3 and np.isfinite(got["t_hit"][ties]).all(), (name, motion, ties.sum())
+
+
+def test_a_structure_that_cannot_take_a_move_is_rebuilt_counted_and_logged(caplog):
+    """kdtree cannot refit, and a refittable structure may refuse a move: either way the scene is
+    rebuilt, refit_rebuilds counts it and the "thicket" logger says why; nothing is raised."""
+    v, t = scan_like_mesh()
+    w = v * np.float32(1.5)
+    rays = random_rays(thicket.Scene(w, t), 500, seed=5, width=6)
+    fresh = thicket.RaycastingScene(accel="bvh8")
+    fresh.add_triangles(w, t)
+    want = fresh.cast_rays(rays)
+
+    class Refusing:
+        """A refittable structure whose refit refuses every move (as bvh8 once did on scans)."""
+
+        def __init__(self, accel):
+            self._accel = accel
+            self.refittable = True
+
+        def refit(self, scene, nthreads=0):
+            raise thicket.Error("planted refusal: rebuild instead")
+
+        def __getattr__(self, name):
+            return getattr(self._accel, name)
+
+    for accel in ("kdtree", "bvh8"):
+        scene = thicket.RaycastingScene(accel=accel)
+        scene.add_triangles(v, t)
+        scene.cast_rays(rays)
+        if accel == "bvh8":
+            scene._accel = Refusing(scene._accel)
+        scene.set_vertices(0, w)
+        with caplog.at_level(logging.INFO, logger="thicket"):
+            got = scene.cast_rays(rays)
+        assert scene.refit_rebuilds == 1, accel
+        assert "rebuilt" in caplog.text and (accel == "kdtree" or "planted refusal" in caplog.text), caplog.text
+        caplog.clear()
+        for key in ("t_hit", "primitive_ids"):
+            np.testing.assert_array_equal(got[key], want[key], err_msg=f"{accel} {key}")
+        if accel == "bvh8":
+            scene._accel = Refusing(scene._accel)  # the rebuilt one would refit
+        scene.set_vertices(0, v)  # and again: counted once more
+        scene.refit()
+        assert scene.refit_rebuilds == 2, accel

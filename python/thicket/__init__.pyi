@@ -211,6 +211,9 @@ class RaycastingScene:
         """(N, 3) floats, N the geometry's vertex count; the next query or refit() updates the structure."""
     def refit(self) -> None:
         """Brings the structure up to date now (refit, or a rebuild for a structure that cannot refit)."""
+    @property
+    def refit_rebuilds(self) -> int:
+        """How many times a move was answered by a rebuild because the structure could not refit (logged on "thicket")."""
     def add_instance(self, geometry_id: int, transform: _Input) -> int:
         """Draws geometry geometry_id again under a (3, 4) or (4, 4) affine transform -> the instance id (0, 1, ...)."""
     def set_transform(self, instance_id: int, transform: _Input) -> None:

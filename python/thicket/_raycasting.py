@@ -6,6 +6,8 @@ built over it on the first query after a change. The structure's primitive ids a
 the queries turn them into (geometry id, primitive id within the geometry) with numpy, a search
 over the geometries' first ids per answer, so no Python runs per ray."""
 
+import logging
+
 import numpy as np
 
 from ._arguments import count as _count_argument
@@ -21,6 +23,7 @@ _INVALID = 4294967295
 _MAX_TRIANGLES = _INVALID - 1
 _MAX_VERTICES = 1 << 32
 _IDENTITY = np.eye(4)[:3]
+_log = logging.getLogger("thicket")
 
 
 class _Answer(np.ndarray):
@@ -142,6 +145,7 @@ class RaycastingScene:
         self._built_instances = 0    # how many of them the structure has (0: it is a plain one)
         self._moved_instances = {}   # instance id -> transform set since the structure was built
         self._flat = None            # closest points with instances: the flattened scene's structure
+        self._refit_rebuilds = 0     # moves a rebuild answered because the structure could not refit
 
     # ----------------------------------------------------------------------------------- building
 
@@ -257,6 +261,14 @@ class RaycastingScene:
             raise ValueError(f"vertex_positions: row {bad[0]} is not finite as float32: {v[bad[0]].tolist()}")
         self._moved[gid] = moved
 
+    @property
+    def refit_rebuilds(self):
+        """int: how many times bringing the structure up to date after set_vertices rebuilt it
+        instead of refitting it, because the structure cannot refit (see thicket.accels()) or
+        said it could not take that move; each is also logged at INFO level on the "thicket"
+        logger. Never raised: the answers are the moved scene's either way."""
+        return self._refit_rebuilds
+
     def refit(self):
         """refit() -> None. Brings the structure up to date now rather than at the next query:
         after set_vertices, refits it (Accel.refit: the same tree, its boxes recomputed, the answers
@@ -281,10 +293,17 @@ class RaycastingScene:
             vertices = self._scene.vertices
             self._apply_moves(vertices)
             self._scene.set_vertices(0, vertices)
+            reason = "the structure does not refit"
             if self._accel.refittable:
-                self._accel.refit(self._scene, nthreads=self._nthreads)
-            else:
+                try:
+                    self._accel.refit(self._scene, nthreads=self._nthreads)
+                    reason = None
+                except Error as e:  # the structure said it cannot take this move: built again
+                    reason = str(e)
+            if reason is not None:
                 self._accel = build(self._scene, self._spec)
+                self._refit_rebuilds += 1
+                _log.info("RaycastingScene: rebuilt %r instead of refitting (%s)", self._spec, reason)
             self._moved = {}
         return self._accel
 

@@ -1,4 +1,4 @@
-// Packing triangles into 4-lane blocks, for the build's tree and the sliver tree alike.
+// Packing triangles into 4-lane blocks, and what the blocks hold.
 #include "thicket/bvh8/blocks.h"
 
 #include <algorithm>
@@ -16,10 +16,6 @@ LeafPlacement pack_blocks(Blocks& blocks, const Tris& tris, const uint32_t* prim
     for (uint32_t k = 0; k < count; ++k) {
         if (packing.may_repeat && std::find(prims, prims + k, prims[k]) != prims + k) continue;
         const auto v = tris.triangle(prims[k]);
-        if (packing.slivers && Tris::degenerate({v[0], v[1], v[2]})) {
-            packing.slivers->push_back(prims[k]);
-            continue;
-        }
         if (lane == 4) {
             blocks.emplace_back();
             Tri4& b = blocks.back();
@@ -38,6 +34,20 @@ LeafPlacement pack_blocks(Blocks& blocks, const Tris& tris, const uint32_t* prim
         ++packing.lanes;
     }
     return p;
+}
+
+size_t degenerate_lanes(const Blocks& blocks) {
+    size_t count = 0;
+    for (const Tri4& b : blocks)
+        for (int lane = 0; lane < 4; ++lane) {
+            if (b.id[lane] == kNoPrim) continue;
+            Triangles<>::Tri tri;
+            Vec3* corners[3] = {&tri.v0, &tri.v1, &tri.v2};
+            for (int vertex = 0; vertex < 3; ++vertex)
+                *corners[vertex] = Vec3(b.v[vertex][0][lane], b.v[vertex][1][lane], b.v[vertex][2][lane]);
+            count += Triangles<>::degenerate(tri) ? 1 : 0;
+        }
+    return count;
 }
 
 template LeafPlacement pack_blocks(Blocks&, const Triangles<TriangleTest::Moller>&, const uint32_t*, uint32_t,

@@ -145,7 +145,7 @@ void check_boxes(Tree& tree, const LeafPrimitives& leaf_primitives, std::span<co
     }
 }
 
-/// A loaded block: each lane either triangle `id` of `tris`, not degenerate, bit for bit, or
+/// A loaded block: each lane either triangle `id` of `tris` bit for bit, or
 /// kNoPrim with all-zero vertices (never hit). Marks the triangles seen; counts the lanes filled.
 template <class Tris>
 static void check_block(const Blocks& blocks, uint32_t index, const Tris& tris, std::vector<bool>& seen,
@@ -162,8 +162,6 @@ static void check_block(const Blocks& blocks, uint32_t index, const Tris& tris, 
         if (b.id[lane] >= tris.size())
             throw Error(where + " names triangle " + std::to_string(b.id[lane]) + " of " + std::to_string(tris.size()));
         const auto v = tris.triangle(b.id[lane]);
-        if (Tris::degenerate({v[0], v[1], v[2]}))
-            throw Error(where + " holds degenerate triangle " + std::to_string(b.id[lane]));
         for (int vertex = 0; vertex < 3; ++vertex)
             for (int a = 0; a < 3; ++a)
                 if (std::bit_cast<uint32_t>(b.v[vertex][a][lane]) != std::bit_cast<uint32_t>(v[size_t(vertex)][a]))
@@ -174,13 +172,13 @@ static void check_block(const Blocks& blocks, uint32_t index, const Tris& tris, 
 }
 
 template <class Tris>
-LoadedBlocks prove_blocks(Tree& tree, const Blocks& blocks, const std::vector<uint32_t>& ids, const Tris& tris,
+size_t prove_blocks(Tree& tree, const Blocks& blocks, const std::vector<uint32_t>& ids, const Tris& tris,
                           std::span<const Aabb> bounds, const ClipFunction& clip) {
     if (!ids.empty()) throw Error("bvh8: a triangle scene's payload lists primitive ids, not blocks");
-    LoadedBlocks found;
+    size_t lanes = 0;
     std::vector<bool> seen(tris.size(), false);
     for_each_leaf(tree, [&](uint32_t first, uint32_t size) {
-        for (uint32_t b = first; b < first + size; ++b) check_block(blocks, b, tris, seen, found.lanes);
+        for (uint32_t b = first; b < first + size; ++b) check_block(blocks, b, tris, seen, lanes);
     });
     check_boxes(
         tree,
@@ -191,18 +189,20 @@ LoadedBlocks prove_blocks(Tree& tree, const Blocks& blocks, const std::vector<ui
         },
         bounds, clip);
     for (uint32_t i = 0; i < tris.size(); ++i) {
+        if (seen[i]) continue;
         const auto v = tris.triangle(i);
         if (Tris::degenerate({v[0], v[1], v[2]}))
-            found.slivers.push_back(i);
-        else if (!seen[i])
-            throw Error("bvh8: triangle " + std::to_string(i) + " is in no leaf");
+            throw Error("bvh8: degenerate triangle " + std::to_string(i) +
+                        " is in no leaf: the file was saved by a thicket whose bvh8 left degenerate triangles out "
+                        "of its blocks (before 2026-12-07); build and save the structure again");
+        throw Error("bvh8: triangle " + std::to_string(i) + " is in no leaf");
     }
-    return found;
+    return lanes;
 }
 
-template LoadedBlocks prove_blocks(Tree&, const Blocks&, const std::vector<uint32_t>&,
+template size_t prove_blocks(Tree&, const Blocks&, const std::vector<uint32_t>&,
                                    const Triangles<TriangleTest::Moller>&, std::span<const Aabb>, const ClipFunction&);
-template LoadedBlocks prove_blocks(Tree&, const Blocks&, const std::vector<uint32_t>&,
+template size_t prove_blocks(Tree&, const Blocks&, const std::vector<uint32_t>&,
                                    const Triangles<TriangleTest::Watertight>&, std::span<const Aabb>,
                                    const ClipFunction&);
 

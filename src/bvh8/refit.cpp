@@ -4,12 +4,8 @@
 #include "thicket/bvh8/refit.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cstdint>
-#include <string>
-#include <vector>
 
-#include "thicket/core/error.h"
 #include "thicket/core/ray.h"
 #include "thicket/core/sah.h"
 #include "thicket/prims/triangles.h"
@@ -61,41 +57,6 @@ uint32_t blocks_count(const Blocks& blocks, uint32_t first, uint32_t size) {
     return n;
 }
 
-/// Whether each triangle of `tris` is degenerate now: one pass in primitive order, so that the
-/// lanes' check below reads a byte per lane instead of gathering every triangle a second time
-/// (the gather, in the blocks' order, is the refit's dearest memory traffic).
-template <class Tris>
-std::vector<uint8_t> degenerate_flags(const Tris& tris, unsigned threads) {
-    std::vector<uint8_t> flags(tris.size());
-    parallel_for(tris.size(), 4096, threads, [&](size_t begin, size_t end) {
-        for (size_t i = begin; i < end; ++i) {
-            const auto v = tris.triangle(uint32_t(i));
-            flags[i] = Tris::degenerate({v[0], v[1], v[2]}) ? 1 : 0;
-        }
-    });
-    return flags;
-}
-
-/// The smallest id in `blocks` whose triangle's degeneracy now (`flags`) is not `degenerate`
-/// (kNoPrim: none): the lanes' side of the test is what the build sorted them by. The smallest,
-/// not the first found, so that the message does not depend on the threads' timing.
-uint32_t crossed_lane(const Blocks& blocks, const std::vector<uint8_t>& flags, bool degenerate, unsigned threads) {
-    std::atomic<uint32_t> found{kNoPrim};
-    parallel_for(blocks.size(), 1024, threads, [&](size_t begin, size_t end) {
-        for (size_t k = begin; k < end; ++k)
-            for (int lane = 0; lane < 4; ++lane) {
-                const uint32_t id = blocks[k].id[lane];
-                if (id == kNoPrim) continue;
-                if ((flags[id] != 0) != degenerate) {
-                    uint32_t seen = found.load();
-                    while (id < seen && !found.compare_exchange_weak(seen, id)) {
-                    }
-                }
-            }
-    });
-    return found.load();
-}
-
 template <class Tris>
 void repack(Blocks& blocks, const Tris& tris, unsigned threads) {
     parallel_for(blocks.size(), 1024, threads, [&](size_t begin, size_t end) {
@@ -113,8 +74,7 @@ void repack(Blocks& blocks, const Tris& tris, unsigned threads) {
 
 }  // namespace
 
-void refit_tree(Tree& tree, const LeafBox& leaf_box, const LeafCount& leaf_count, unsigned threads,
-                const Aabb& also) {
+void refit_tree(Tree& tree, const LeafBox& leaf_box, const LeafCount& leaf_count, unsigned threads) {
     auto& nodes = tree.nodes;
     parallel_for(nodes.size(), 256, threads, [&](size_t begin, size_t end) {
         for (size_t n = begin; n < end; ++n)
@@ -128,8 +88,7 @@ void refit_tree(Tree& tree, const LeafBox& leaf_box, const LeafCount& leaf_count
                 set_lane_box(nodes[n], lane, node_box(nodes[nodes[n].child[lane]]));
 
     // The build's figures (collapse.cpp), with each leaf's count as the lanes now hold it.
-    tree.bounds = also;
-    if (!nodes.empty()) tree.bounds.grow(node_box(nodes[0]));
+    tree.bounds = nodes.empty() ? Aabb() : node_box(nodes[0]);
     const double root_area = tree.bounds.area();
     tree.sah_cost = tree.embree_sah_cost = 0.0;
     if (!(root_area > 0.0)) return;
@@ -148,30 +107,14 @@ void refit_tree(Tree& tree, const LeafBox& leaf_box, const LeafCount& leaf_count
 }
 
 template <class Tris>
-void refit_blocks(Tree& tree, Blocks& blocks, SliverTree& slivers, const Tris& tris, unsigned threads) {
-    // Checked before anything changes, so a refused refit leaves the structure as it was.
-    const std::vector<uint8_t> flags = degenerate_flags(tris, threads);
-    if (const uint32_t id = crossed_lane(blocks, flags, false, threads); id != kNoPrim)
-        throw Error("bvh8 refit: triangle " + std::to_string(id) +
-                    " became degenerate (no interior left after the move); the tree's blocks hold only triangles "
-                    "with an interior: rebuild instead");
-    if (const uint32_t id = crossed_lane(slivers.blocks, flags, true, threads); id != kNoPrim)
-        throw Error("bvh8 refit: triangle " + std::to_string(id) +
-                    " was degenerate at the build and has an interior after the move, so rays could hit it but no "
-                    "leaf rays visit holds it: rebuild instead");
+void refit_blocks(Tree& tree, Blocks& blocks, const Tris& tris, unsigned threads) {
     repack(blocks, tris, threads);
-    repack(slivers.blocks, tris, threads);
-    refit_tree(
-        slivers.tree, [&](uint32_t first, uint32_t size) { return blocks_box(slivers.blocks, first, size); },
-        [&](uint32_t first, uint32_t size) { return blocks_count(slivers.blocks, first, size); }, threads);
-    // Tree::bounds covers the degenerate triangles too, as the build's does (and the SAH's root).
     refit_tree(
         tree, [&](uint32_t first, uint32_t size) { return blocks_box(blocks, first, size); },
-        [&](uint32_t first, uint32_t size) { return blocks_count(blocks, first, size); }, threads,
-        slivers.tree.bounds);
+        [&](uint32_t first, uint32_t size) { return blocks_count(blocks, first, size); }, threads);
 }
 
-template void refit_blocks(Tree&, Blocks&, SliverTree&, const Triangles<TriangleTest::Moller>&, unsigned);
-template void refit_blocks(Tree&, Blocks&, SliverTree&, const Triangles<TriangleTest::Watertight>&, unsigned);
+template void refit_blocks(Tree&, Blocks&, const Triangles<TriangleTest::Moller>&, unsigned);
+template void refit_blocks(Tree&, Blocks&, const Triangles<TriangleTest::Watertight>&, unsigned);
 
 }  // namespace thicket::bvh8

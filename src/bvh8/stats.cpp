@@ -1,5 +1,5 @@
 // bvh8's statistics from plain figures: AccelStats' shared fields, then its own ("isa",
-// "8-wide nodes", "Embree SAH", blocks, "degenerate dropped", "references").
+// "8-wide nodes", "Embree SAH", blocks, "degenerate lanes", "references").
 #include "thicket/bvh8/stats.h"
 
 #include <cstdint>
@@ -15,7 +15,7 @@ void fill_stats(AccelStats& s, const StatsFigures& f) {
     s.nodes = f.node_count + tree.leaves;  // AccelStats counts leaves as nodes
     s.leaves = tree.leaves;
     s.max_depth = tree.max_depth;
-    s.bytes = f.node_count * f.node_bytes + f.other_nodes * sizeof(Node) + f.ids * sizeof(uint32_t);
+    s.bytes = f.node_count * f.node_bytes + f.ids * sizeof(uint32_t);
     s.primitive_bytes = f.primitive_bytes;
     s.sah_cost = tree.sah_cost;
     s.extra.emplace_back("isa", f.isa);
@@ -28,7 +28,7 @@ void fill_stats(AccelStats& s, const StatsFigures& f) {
         s.extra.emplace_back("4-triangle blocks", std::to_string(f.block_count) + " (" +
                                                       std::to_string(lanes ? 100 * f.lanes / lanes : 0) +
                                                       "% of lanes used)");
-        s.extra.emplace_back("degenerate dropped", std::to_string(f.dropped));
+        s.extra.emplace_back("degenerate lanes", std::to_string(f.degenerate));
     }
     // Counted, not structural: the proof that coherent batches took the packet path (tests, CI).
     s.extra.emplace_back("packet rays", std::to_string(f.packet_rays));

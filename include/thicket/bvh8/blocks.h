@@ -19,17 +19,20 @@ struct BlockPacking {
     /// Spatial splits (builder=sbvh) listed some triangle in several binary leaves: a merged leaf
     /// (leaf-merge) may then hold both parts of one, and one lane is enough.
     bool may_repeat = false;
-    /// Where degenerate triangles go instead of a lane (rays never hit them: Triangles::plausible);
-    /// null keeps them (the sliver tree's own blocks, slivers.h).
-    std::vector<uint32_t>* slivers = nullptr;
     size_t lanes = 0;  ///< lanes filled
 };
 
 /// Appends triangles prims[0..count) of `tris` to `blocks`, four to a block in that order, unused
-/// lanes kNoPrim with all-zero vertices; returns where they went (size 0: none kept).
+/// lanes kNoPrim with all-zero vertices; returns where they went. Degenerate triangles are kept:
+/// the kernels never report their hits (as Triangles::plausible), closest points reach them, and
+/// a refit may give them an interior again.
 /// Tris: Triangles<TriangleTest::Moller> or Triangles<TriangleTest::Watertight> (blocks.cpp).
 template <class Tris>
 LeafPlacement pack_blocks(Blocks& blocks, const Tris& tris, const uint32_t* prims, uint32_t count,
                           BlockPacking& packing);
+
+/// How many filled lanes of `blocks` hold a degenerate triangle (Triangles::degenerate): lanes
+/// rays never hit (stats' "degenerate lanes"). The test is the same for both triangle sets.
+size_t degenerate_lanes(const Blocks& blocks);
 
 }  // namespace thicket::bvh8

@@ -5,7 +5,7 @@
 /// indirection); any other set keeps its primitives and leaves list ids tested one by one.
 /// This class composes the pieces, one concept per file (docs/bvh8.md, "Files"): node.h (layout
 /// and kernel interface), build.h (binary build and collapse), blocks.h (4-triangle blocks),
-/// slivers.h (the degenerate-triangle tree), bvh8_io.h (saving, loading and its proofs),
+/// bvh8_io.h (saving, loading and its proofs),
 /// stats.h, and the queries' baseline sides: isa.h (the kernels' choice), packets.h,
 /// closest_point.h.
 #include <algorithm>
@@ -29,7 +29,6 @@
 #include "thicket/bvh8/isa.h"
 #include "thicket/bvh8/packets.h"
 #include "thicket/bvh8/refit.h"
-#include "thicket/bvh8/slivers.h"
 #include "thicket/bvh8/stats.h"
 #include "thicket/core/huge_pages.h"
 #include "thicket/prims/primitive_set.h"
@@ -63,7 +62,7 @@ template <PrimitiveSet Prims>
 class Bvh8 final : public AccelBase<Bvh8<Prims>> {
 public:
     static constexpr int kLeafKind = bvh8::kLeafKindOf<Prims>;
-    /// The leaves are 4-triangle blocks (and a sliver tree); otherwise primitive ids into prims_.
+    /// The leaves are 4-triangle blocks; otherwise primitive ids into prims_.
     static constexpr bool kBlocks = kLeafKind != bvh8::kLeafCallback;
 
     /// Builds the binary BVH with options.binary and collapses it (or has the foreign builder
@@ -75,7 +74,7 @@ public:
           kernels_(&bvh8::kernels_for(options.isa)) {
         if (options.tree == bvh8::TreeSource::Thicket) {
             const BvhData binary = bvh8::build_binary(prims_, options.binary);
-            adopt_build(binary.prim_indices, bvh8::block_count(binary, options.merge_below), options,
+            adopt_build(binary.prim_indices, bvh8::block_count(binary, options.merge_below),
                         [&](const bvh8::LeafEmitter& emit) { return bvh8::collapse(binary, emit, options.merge_below); });
         } else {
             std::vector<Aabb> prim_bounds(primitives_);
@@ -83,15 +82,15 @@ public:
             const ClipFunction clip = [this](uint32_t i, const Aabb& box) { return clipped_bounds(prims_, i, box); };
             const bvh8::WideTree wide =
                 bvh8::build_foreign_tree({prim_bounds, clip, options.tree, options.binary.threads});
-            adopt_build(wide.prims, bvh8::block_count(wide), options,
+            adopt_build(wide.prims, bvh8::block_count(wide),
                         [&](const bvh8::LeafEmitter& emit) { return bvh8::write_wide_tree(wide, emit); });
         }
         adopt_layout(options.compressed);
         set_contexts();
     }
     /// Adopts a saved tree (bvh8::read_tree) after proving that it answers for `prims` as the
-    /// built one would: its leaves hold the scene's own primitives (triangles bit for bit, none
-    /// degenerate), every primitive that the build keeps is reachable, and every box encloses
+    /// built one would: its leaves hold the scene's own primitives (triangles bit for bit), every
+    /// primitive is reachable, and every box encloses
     /// what lies below it (bvh8::prove_blocks, bvh8::prove_ids). Throws Error naming what is wrong.
     Bvh8(Prims prims, const Bvh8Options& options, bvh8::SavedTree saved)
         : prims_(std::move(prims)),
@@ -105,12 +104,8 @@ public:
         for (uint32_t i = 0; i < primitives_; ++i) tree_.bounds.grow(prim_bounds[i] = prims_.bounds(i));
         const ClipFunction clip = [this](uint32_t i, const Aabb& box) { return clipped_bounds(prims_, i, box); };
         if constexpr (kBlocks) {
-            bvh8::LoadedBlocks found = bvh8::prove_blocks(tree_, blocks_, ids_, prims_, prim_bounds, clip);
-            kept_ = found.lanes;
-            dropped_ = found.slivers.size();
-            references_ = kept_ + dropped_;  // lanes: a triangle cut by spatial splits counts per leaf
-            // Not saved: rebuilt as the build makes it.
-            slivers_ = bvh8::build_sliver_tree(prims_, std::move(found.slivers), options.binary, options.merge_below);
+            kept_ = bvh8::prove_blocks(tree_, blocks_, ids_, prims_, prim_bounds, clip);
+            references_ = kept_;  // lanes: a triangle cut by spatial splits counts per leaf
             prims_ = Prims();  // as after a build: the blocks are the only copy
         } else {
             bvh8::prove_ids(tree_, blocks_, ids_, prim_bounds, clip);
@@ -160,10 +155,7 @@ public:
     /// triangles included (their points are on the surface; rays never hit them); shapes: Error.
     NearestPoint closest_point(const Vec3& p) const override {
         if constexpr (kBlocks)
-            return bvh8::closest_point(*kernels_,
-                                       {node_count_ == 0 ? nullptr : &ctx_,
-                                        slivers_.tree.nodes.empty() ? nullptr : &sliver_ctx_},
-                                       p);
+            return bvh8::closest_point(*kernels_, {node_count_ == 0 ? nullptr : &ctx_}, p);
         else
             return Accel::closest_point(p);  // shapes: refused with the reason
     }
@@ -199,14 +191,12 @@ public:
                              .isa = kernels_->isa,
                              .primitives = primitives_,
                              .references = references_,
-                             .other_nodes = slivers_.tree.nodes.size(),
                              .ids = ids_.size(),
-                             .primitive_bytes = kBlocks ? (blocks_.size() + slivers_.blocks.size()) * sizeof(bvh8::Tri4)
-                                                        : prims_.bytes(),
+                             .primitive_bytes = kBlocks ? blocks_.size() * sizeof(bvh8::Tri4) : prims_.bytes(),
                              .blocks = kBlocks,
                              .block_count = blocks_.size(),
                              .lanes = kept_,
-                             .dropped = dropped_,
+                             .degenerate = kBlocks ? bvh8::degenerate_lanes(blocks_) : 0,
                              .packet_rays = packet_rays_.load(std::memory_order_relaxed)});
         return s;
     }
@@ -221,8 +211,8 @@ public:
     }
 
     /// Accel::refit: new vertices into the blocks, every box and the plane bounds again
-    /// (src/bvh8/refit.cpp). Refused (Error, nothing changed) when a triangle crossed the
-    /// degenerate test, which only a rebuild handles. Compressed nodes are decoded for the refit
+    /// (src/bvh8/refit.cpp); any move of the vertices is taken, degenerate triangles included
+    /// (their lanes stay, never hit). Compressed nodes are decoded for the refit
     /// (their topology) and quantized again from the refitted boxes.
     void refit(const Scene& scene, unsigned threads) override {
         Prims fresh = refit_primitives(scene, primitives_, prims_, "bvh8");
@@ -230,7 +220,7 @@ public:
         if (compressed) bvh8::decode_nodes(qnodes_, tree_.nodes);
         try {
             if constexpr (kBlocks) {
-                bvh8::refit_blocks(tree_, blocks_, slivers_, fresh, threads);
+                bvh8::refit_blocks(tree_, blocks_, fresh, threads);
             } else {
                 bvh8::refit_tree(
                     tree_,
@@ -258,8 +248,6 @@ public:
     const bvh8::TraceContext& trace_context() const { return ctx_; }
     const bvh8::KernelTable& kernels() const { return *kernels_; }
     const bvh8::Blocks& blocks() const { return blocks_; }
-    /// The degenerate triangles' blocks, searched by closest_point() only.
-    const bvh8::Blocks& sliver_blocks() const { return slivers_.blocks; }
 
 protected:
     /// Coherent batches: each 16 consecutive rays that share a direction octant (and have no zero
@@ -285,26 +273,22 @@ protected:
 private:
     /// Stores the tree write_tree(emit) makes, whose leaves list primitives of `order` (the
     /// builder's leaf order, blocks_needed 4-triangle blocks at most): its leaves packed into
-    /// blocks (degenerate triangles into the sliver tree) or kept as ids.
+    /// blocks (degenerate triangles too: the kernels reject their hits) or kept as ids.
     template <class WriteTree>
-    void adopt_build(const std::vector<uint32_t>& order, size_t blocks_needed, const Bvh8Options& options,
-                     WriteTree&& write_tree) {
+    void adopt_build(const std::vector<uint32_t>& order, size_t blocks_needed, WriteTree&& write_tree) {
         references_ = order.size();
         if constexpr (kBlocks) {
-            dropped_ = bvh8::count_degenerate(prims_);
-            // Exactly the blocks the tree stores (an upper bound when packing drops degenerate or
-            // repeated triangles): never reallocated while written, never copied to fit.
+            // Exactly the blocks the tree stores (an upper bound when packing drops repeated
+            // triangles): never reallocated while written, never copied to fit.
             reserve_huge(blocks_, blocks_needed);
-            std::vector<uint32_t> slivers;
-            bvh8::BlockPacking packing{references_ > primitives_, &slivers};
+            bvh8::BlockPacking packing{references_ > primitives_};
             tree_ = write_tree([&](uint32_t first, uint32_t count) {
                 return bvh8::pack_blocks(blocks_, prims_, order.data() + first, count, packing);
             });
             bvh8::validate_tree(tree_, blocks_.size());
-            // Many degenerate triangles (dropped) can leave the reservation well above the need.
+            // Many repeated triangles (spatial splits) can leave the reservation above the need.
             if (blocks_.capacity() - blocks_.size() > blocks_.size() / 8) blocks_.shrink_to_fit();
             kept_ = packing.lanes;
-            slivers_ = bvh8::build_sliver_tree(prims_, std::move(slivers), options.binary, options.merge_below);
             prims_ = Prims();  // the blocks are the structure's only copy of the triangles
         } else {
             ids_ = order;
@@ -322,12 +306,10 @@ private:
                 .prims = &prims_,
                 .closest_leaf = &closest_leaf,
                 .any_leaf = &any_leaf};
-        sliver_ctx_ = {.nodes = slivers_.tree.nodes.data(), .blocks = slivers_.blocks.data()};
         if (qnodes_.empty())
             bvh8::set_plane_bounds(ctx_, tree_.nodes.data(), tree_.nodes.size());
         else
             bvh8::set_plane_bounds(ctx_, qnodes_.data(), qnodes_.size());
-        bvh8::set_plane_bounds(sliver_ctx_, slivers_.tree.nodes.data(), slivers_.tree.nodes.size());
     }
 
     /// Counts the nodes and, for nodes=compressed, replaces them by their QNodes (the Nodes freed:
@@ -369,7 +351,6 @@ private:
     Prims prims_;
     size_t primitives_ = 0;
     size_t kept_ = 0;        ///< block lanes filled (a triangle once per leaf listing it)
-    size_t dropped_ = 0;     ///< degenerate triangles, never in the blocks rays see
     size_t references_ = 0;  ///< entries of the binary tree's leaves
     bool packets_ = true;
     mutable std::atomic<uint64_t> packet_rays_{0};  ///< stats()' "packet rays"
@@ -380,8 +361,6 @@ private:
     std::vector<uint32_t> ids_;   ///< leaf storage of callback leaves
     const bvh8::KernelTable* kernels_;
     bvh8::TraceContext ctx_;
-    bvh8::SliverTree slivers_;    ///< degenerate triangles, for closest points only (kBlocks)
-    bvh8::TraceContext sliver_ctx_;
 };
 
 }  // namespace thicket

@@ -47,22 +47,17 @@ void check_boxes(Tree& tree, const LeafPrimitives& leaf_primitives, std::span<co
 /// Calls `visit(first, size)` for every leaf lane reachable from the root.
 void for_each_leaf(const Tree& tree, const std::function<void(uint32_t first, uint32_t size)>& visit);
 
-/// What the proof of a loaded triangle tree found: the lanes filled (a triangle once per leaf
-/// listing it) and the degenerate triangles, which the sliver tree is rebuilt from (not saved).
-struct LoadedBlocks {
-    size_t lanes = 0;
-    std::vector<uint32_t> slivers;
-};
-
 /// Proves a loaded triangle tree against the scene's triangles `tris` (bounds: theirs, clip:
 /// their clipped bounds): the payload holds blocks, not ids; every block lane of a reachable leaf
-/// is either a non-degenerate triangle of the scene bit for bit or kNoPrim with all-zero
-/// vertices; the boxes enclose them (check_boxes); every non-degenerate triangle is in a leaf.
-/// Throws Error naming the first block, lane or triangle that is wrong.
+/// is either a triangle of the scene bit for bit (degenerate ones included: the blocks keep them)
+/// or kNoPrim with all-zero vertices; the boxes enclose them (check_boxes); every triangle is in
+/// a leaf. Returns the lanes filled (a triangle once per leaf listing it). Throws Error naming the
+/// first block, lane or triangle that is wrong; a file whose blocks leave degenerate triangles
+/// out (saved before 2026-12-07, when the blocks dropped them) is told to be built again.
 /// Tris: Triangles<TriangleTest::Moller> or Triangles<TriangleTest::Watertight> (bvh8_io.cpp).
 template <class Tris>
-LoadedBlocks prove_blocks(Tree& tree, const Blocks& blocks, const std::vector<uint32_t>& ids, const Tris& tris,
-                          std::span<const Aabb> bounds, const ClipFunction& clip);
+size_t prove_blocks(Tree& tree, const Blocks& blocks, const std::vector<uint32_t>& ids, const Tris& tris,
+                    std::span<const Aabb> bounds, const ClipFunction& clip);
 
 /// Proves a loaded tree of primitive-id leaves over `bounds.size()` primitives: the payload holds
 /// ids, not blocks; every id of a reachable leaf names a primitive; the boxes enclose them

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "thicket/core/degenerate.h"
 #include "thicket/core/ray.h"
 
 namespace thicket::bvh8 {

@@ -9,17 +9,16 @@
 
 #include "thicket/bvh8/blocks.h"
 #include "thicket/bvh8/build.h"
-#include "thicket/bvh8/slivers.h"
 
 namespace thicket::bvh8 {
 
-/// Triangle leaves: re-packs every lane of `blocks` and of the sliver tree's blocks with triangle
-/// `id` of `tris`, then refits both trees and `tree`'s figures (bounds over every triangle).
-/// Throws Error, changing nothing, when a triangle crossed the degenerate test (Triangles::
-/// degenerate) either way: the blocks rays see hold exactly the non-degenerate triangles, so
-/// such a move needs a rebuild. Tris: Triangles<TriangleTest::Moller> or <Watertight> (refit.cpp).
+/// Triangle leaves: re-packs every lane of `blocks` with triangle `id` of `tris`, then refits
+/// `tree` and its figures. Any move is taken: a triangle that loses its interior or gains one
+/// (a scan's collinear triangle after an affine map) keeps its lane, which the kernels test for
+/// degeneracy on every hit (kernel_triangles.inc, plausible_lane), as brute force does.
+/// Tris: Triangles<TriangleTest::Moller> or <Watertight> (refit.cpp).
 template <class Tris>
-void refit_blocks(Tree& tree, Blocks& blocks, SliverTree& slivers, const Tris& tris, unsigned threads);
+void refit_blocks(Tree& tree, Blocks& blocks, const Tris& tris, unsigned threads);
 
 /// Box of the primitives a leaf lane lists: leaf storage [first, first + size).
 using LeafBox = std::function<Aabb(uint32_t first, uint32_t size)>;
@@ -28,9 +27,8 @@ using LeafCount = std::function<uint32_t(uint32_t first, uint32_t size)>;
 
 /// Recomputes every lane's box of `tree` (leaf lanes from `leaf_box`, on up to `threads` threads;
 /// interior lanes as the union of their child's lanes), tree.bounds as the union of the root's
-/// lanes and `also`, and tree.sah_cost / embree_sah_cost with `leaf_count` relative to that
+/// lanes, and tree.sah_cost / embree_sah_cost with `leaf_count` relative to that
 /// bounds' area. Any leaf storage (callback ids).
-void refit_tree(Tree& tree, const LeafBox& leaf_box, const LeafCount& leaf_count, unsigned threads,
-                const Aabb& also = {});
+void refit_tree(Tree& tree, const LeafBox& leaf_box, const LeafCount& leaf_count, unsigned threads);
 
 }  // namespace thicket::bvh8

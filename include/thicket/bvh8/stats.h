@@ -17,13 +17,12 @@ struct StatsFigures {
     const char* isa = "";        ///< the kernels' level
     size_t primitives = 0;       ///< in the scene
     size_t references = 0;       ///< entries of the binary tree's leaves
-    size_t other_nodes = 0;      ///< nodes of trees rays never see (the sliver tree), memory only
     size_t ids = 0;              ///< primitive ids stored (leaves of shapes)
     size_t primitive_bytes = 0;  ///< the blocks, or the primitive set the leaves' ids index
     bool blocks = false;         ///< the leaves are 4-triangle blocks: the three figures below apply
     size_t block_count = 0;      ///< blocks rays see
     size_t lanes = 0;            ///< their lanes filled
-    size_t dropped = 0;          ///< degenerate triangles, never stored in those blocks
+    size_t degenerate = 0;       ///< lanes holding a degenerate triangle (kept, never hit)
     uint64_t packet_rays = 0;    ///< rays the packet kernels have answered so far
 };
 

@@ -11,6 +11,7 @@
 
 #include "thicket/core/aabb.h"
 #include "thicket/core/closest_point.h"
+#include "thicket/core/degenerate.h"
 #include "thicket/core/ray_box.h"
 #include "thicket/core/triangle.h"
 #include "thicket/prims/clip.h"
@@ -119,10 +120,10 @@ public:
         // In double: the fourth powers of edge lengths overflow float for coordinates past ~1e9.
         return !(double(dot(n, n)) > kDegenerateSine2 * double(dot(e1, e1)) * double(dot(e2, e2)));
     }
-    /// |e1 x e2| / (|e1| |e2|) at or below: degenerate (1e-6 in float, 1e-12 in double).
-    static constexpr S kDegenerateSine = std::is_same_v<S, float> ? S(1e-6f) : S(1e-12);
-    static constexpr double kDegenerateSine2 =
-        std::is_same_v<S, float> ? double(kDegenerateSine) * kDegenerateSine : 1e-24;
+    /// |e1 x e2| / (|e1| |e2|) at or below: degenerate (core/degenerate.h: 1e-6 in float, 1e-12
+    /// in double; the bvh8 kernels test block lanes with the same constant).
+    static constexpr S kDegenerateSine = std::is_same_v<S, float> ? S(kDegenerateSineFloat) : S(kDegenerateSineDouble);
+    static constexpr double kDegenerateSine2 = std::is_same_v<S, float> ? kDegenerateSine2Float : kDegenerateSine2Double;
 
 private:
     std::vector<Tri> tris_;
