@@ -1,7 +1,9 @@
 #include "thicket/bench/arbiter.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <unordered_map>
 
 #include "thicket/core/vec3.h"
 #include "thicket/scene/instance.h"
@@ -39,30 +41,45 @@ double origin_segment_distance(double px, double py, double qx, double qy) {
     return std::hypot(px + s * ex, py + s * ey);
 }
 
+/// The plane across the ray through o along d, where the ray is the origin: a point's
+/// coordinates there say how far sideways it lies from the ray.
+struct AcrossRay {
+    Vec3d o, e1, e2;
+    AcrossRay(const Vec3d& origin, const Vec3d& d) : o(origin) {
+        const Vec3d n = normalize(d);
+        // Of the axes, the one least along the ray gives a well-conditioned first basis vector.
+        const Vec3d axis = std::fabs(n.x) <= std::fabs(n.y) && std::fabs(n.x) <= std::fabs(n.z) ? Vec3d{1, 0, 0}
+                           : std::fabs(n.y) <= std::fabs(n.z)                                  ? Vec3d{0, 1, 0}
+                                                                                               : Vec3d{0, 0, 1};
+        e1 = normalize(cross(n, axis));
+        e2 = cross(n, e1);
+    }
+    void project(const Vec3d& p, double& x, double& y) const {
+        const Vec3d r = p - o;
+        x = dot(r, e1);
+        y = dot(r, e2);
+    }
+};
+
+/// Which side of the projected line through (ax, ay), (bx, by) the point (px, py) lies on.
+double side_of(double ax, double ay, double bx, double by, double px, double py) {
+    return (bx - ax) * (py - ay) - (by - ay) * (px - ax);
+}
+
 /// How far the ray through o along d may move sideways and still cross triangle v (> 0), or how
 /// far it misses it (< 0): the triangle projected onto the plane across the ray, where the ray is
 /// the origin.
 double sideways_depth(const Vec3d& o, const Vec3d& d, const Vec3d (&v)[3]) {
-    const Vec3d n = normalize(d);
-    // Of the axes, the one least along the ray gives a well-conditioned first basis vector.
-    const Vec3d axis = std::fabs(n.x) <= std::fabs(n.y) && std::fabs(n.x) <= std::fabs(n.z) ? Vec3d{1, 0, 0}
-                       : std::fabs(n.y) <= std::fabs(n.z)                                  ? Vec3d{0, 1, 0}
-                                                                                           : Vec3d{0, 0, 1};
-    const Vec3d e1 = normalize(cross(n, axis));
-    const Vec3d e2 = cross(n, e1);
+    const AcrossRay across(o, d);
     double x[3], y[3];
-    for (int i = 0; i < 3; ++i) {
-        const Vec3d r = v[i] - o;
-        x[i] = dot(r, e1);
-        y[i] = dot(r, e2);
-    }
+    for (int i = 0; i < 3; ++i) across.project(v[i], x[i], y[i]);
     double nearest = INFINITY;
     int positive = 0, negative = 0;
     for (int i = 0; i < 3; ++i) {
         const int j = (i + 1) % 3;
         nearest = std::min(nearest, origin_segment_distance(x[i], y[i], x[j], y[j]));
         // Which side of edge ij the origin lies on.
-        const double side = (x[j] - x[i]) * (0.0 - y[i]) - (y[j] - y[i]) * (0.0 - x[i]);
+        const double side = side_of(x[i], y[i], x[j], y[j], 0.0, 0.0);
         positive += side > 0;
         negative += side < 0;
     }
@@ -72,36 +89,76 @@ double sideways_depth(const Vec3d& o, const Vec3d& d, const Vec3d (&v)[3]) {
 
 }  // namespace
 
-RoundingArbiter::RoundingArbiter(const Scene& scene) : scene_(scene) {}
+RoundingArbiter::RoundingArbiter(const Scene& scene) : scene_(scene) {
+    // Vertices welded by their exact position (meshes that repeat a vertex per face still share
+    // edges), then each welded vertex's triangles, in compressed rows.
+    const TriangleMesh& mesh = scene.mesh;
+    welded_.resize(mesh.positions.size());
+    std::unordered_map<uint64_t, std::vector<uint32_t>> by_bits;
+    for (uint32_t v = 0; v < mesh.positions.size(); ++v) {
+        const Vec3& p = mesh.positions[v];
+        const uint64_t key = (uint64_t(std::bit_cast<uint32_t>(p.x)) * 0x9e3779b97f4a7c15ULL) ^
+                             (uint64_t(std::bit_cast<uint32_t>(p.y)) * 0xc2b2ae3d27d4eb4fULL) ^
+                             uint64_t(std::bit_cast<uint32_t>(p.z));
+        std::vector<uint32_t>& same = by_bits[key];
+        welded_[v] = v;
+        for (uint32_t w : same)
+            if (mesh.positions[w] == p) {
+                welded_[v] = w;
+                break;
+            }
+        if (welded_[v] == v) same.push_back(v);
+    }
+    const size_t triangles = mesh.indices.size() / 3;
+    ring_first_.assign(mesh.positions.size() + 1, 0);
+    for (uint32_t index : mesh.indices) ++ring_first_[welded_[index] + 1];
+    for (size_t v = 0; v < mesh.positions.size(); ++v) ring_first_[v + 1] += ring_first_[v];
+    ring_.resize(mesh.indices.size());
+    std::vector<uint32_t> fill(ring_first_.begin(), ring_first_.end() - 1);
+    for (size_t t = 0; t < triangles; ++t)
+        for (int c = 0; c < 3; ++c) ring_[fill[welded_[mesh.indices[3 * t + size_t(c)]]]++] = uint32_t(t);
+}
 
-std::optional<RoundingArbiter::Triangle> RoundingArbiter::triangle(uint32_t prim) const {
-    const Instance* instance = nullptr;
+std::optional<RoundingArbiter::Located> RoundingArbiter::locate(uint32_t prim) const {
+    Located out;
     uint32_t scene_prim = prim;
     if (!scene_.instances.empty()) {
         if (scene_.instance_first.size() != scene_.instances.size() + 1 || prim >= scene_.instanced_primitive_count())
             return std::nullopt;
         const auto it = std::upper_bound(scene_.instance_first.begin(), scene_.instance_first.end(), uint64_t(prim));
         const size_t i = size_t(it - scene_.instance_first.begin()) - 1;
-        instance = &scene_.instances[i];
-        scene_prim = scene_.geometry(instance->geometry).first + uint32_t(prim - scene_.instance_first[i]);
+        out.instance = &scene_.instances[i];
+        scene_prim = scene_.geometry(out.instance->geometry).first + uint32_t(prim - scene_.instance_first[i]);
+        out.scale = std::min(kArbiterMaxScale, std::max(1.0, transform_condition(out.instance->transform) / 3.0));
     }
     if (scene_prim >= scene_.primitive_count()) return std::nullopt;
     const PrimRef ref = scene_.locate(scene_prim);
     if (ref.shape) return std::nullopt;
+    out.triangle = ref.index;
+    return out;
+}
+
+RoundingArbiter::Triangle RoundingArbiter::world(const Located& at, uint32_t mesh_triangle) const {
     Triangle tri;
+    tri.scale = at.scale;
     for (int c = 0; c < 3; ++c) {
-        const Vec3d p(scene_.mesh.vertex(ref.index, c));
-        if (!instance) {
+        const Vec3d p(scene_.mesh.vertex(mesh_triangle, c));
+        if (!at.instance) {
             tri.v[c] = p;
             continue;
         }
         for (int a = 0; a < 3; ++a) {
-            const auto& m = instance->transform.m[a];
+            const auto& m = at.instance->transform.m[a];
             tri.v[c][a] = double(m[0]) * p.x + double(m[1]) * p.y + double(m[2]) * p.z + double(m[3]);
         }
     }
-    if (instance) tri.scale = std::max(1.0, transform_condition(instance->transform) / 3.0);
     return tri;
+}
+
+std::optional<RoundingArbiter::Triangle> RoundingArbiter::triangle(uint32_t prim) const {
+    const std::optional<Located> at = locate(prim);
+    if (!at) return std::nullopt;
+    return world(*at, at->triangle);
 }
 
 double RoundingArbiter::delta(const Ray& ray, double t, double scale) {
@@ -129,24 +186,143 @@ RoundingArbiter::Verdict RoundingArbiter::judge(const Ray& ray, uint32_t prim, d
 
 bool RoundingArbiter::possible(const Ray& ray, const Hit& hit) const {
     const Verdict v = judge(ray, hit.prim, hit.t);
-    return v.triangle && v.point_distance <= v.delta;
+    if (!v.triangle || !(v.point_distance <= v.delta)) return false;
+    // Within the ray's interval, widened by rounding only: a hit behind the origin or past tmax
+    // is no hit, however close to its triangle.
+    const double along = length(Vec3d(ray.dir));
+    const double slack = along > 0.0 ? v.delta / along : 0.0;
+    return double(hit.t) >= double(ray.tmin) - slack && double(hit.t) <= double(ray.tmax) + slack;
 }
 
-bool RoundingArbiter::certain(const Ray& ray, uint32_t prim) const {
-    const Verdict v = judge(ray, prim, 0.0);  // t and depth do not depend on the point asked
-    if (!v.triangle || !std::isfinite(v.t)) return false;
-    const double slack = delta(ray, v.t, v.scale);
-    const double along = length(Vec3d(ray.dir));
-    return v.depth > slack && (v.t - double(ray.tmin)) * along > slack && (double(ray.tmax) - v.t) * along > slack;
+RoundingArbiter::Certainty RoundingArbiter::certainty(const Ray& ray, uint32_t prim) const {
+    Certainty out;
+    const std::optional<Located> at = locate(prim);
+    if (!at) return out;
+    const Vec3d o(ray.org), d(ray.dir);
+    const double along = length(d);
+    if (!(along > 0.0)) return out;
+    const TriangleMesh& mesh = scene_.mesh;
+    // The triangles around the primitive's welded vertices (itself included), each once.
+    std::vector<uint32_t> around;
+    for (int c = 0; c < 3; ++c) {
+        const uint32_t v = welded_[mesh.indices[3 * size_t(at->triangle) + size_t(c)]];
+        around.insert(around.end(), ring_.begin() + ring_first_[v], ring_.begin() + ring_first_[v + 1]);
+    }
+    std::sort(around.begin(), around.end());
+    around.erase(std::unique(around.begin(), around.end()), around.end());
+
+    const Triangle own = world(*at, at->triangle);
+    const Vec3d own_normal = cross(own.v[1] - own.v[0], own.v[2] - own.v[0]);
+    const double own_facing = dot(own_normal, d);
+    if (own_facing == 0.0) return out;
+    const double own_t = dot(own_normal, own.v[0] - o) / own_facing;
+    if (!std::isfinite(own_t)) return out;
+    const double slack = delta(ray, own_t, at->scale);
+
+    // Projected across the ray: the union of these triangles covers every ray within `slack` of
+    // this one when the origin lies inside one of them and `slack` from every edge of the union's
+    // boundary. An edge is inside the union when exactly two of the triangles share it and lie on
+    // its two sides (a fold or a non-manifold edge is boundary). Only triangles the ray meets at
+    // least `slack` inside its interval count: one behind the origin or past tmax covers nothing.
+    const AcrossRay across(o, d);
+    struct Projected {
+        uint32_t vertex[3];
+        double x[3], y[3];
+    };
+    std::vector<Projected> flat;
+    bool inside = false;
+    double t_covering = INFINITY, t_reach = -INFINITY;  // nearest t of a triangle alone covering, farthest reachable
+    for (uint32_t tri : around) {
+        const Triangle w = world(*at, tri);
+        const Vec3d normal = cross(w.v[1] - w.v[0], w.v[2] - w.v[0]);
+        const double facing = dot(normal, d);
+        const double t = facing != 0.0 ? dot(normal, w.v[0] - o) / facing : NAN;
+        const double depth = sideways_depth(o, d, w.v);
+        if (!std::isfinite(t)) {
+            if (depth > -slack) return out;  // edge-on to the ray within reach: no certain crossing
+            continue;
+        }
+        if (!((t - double(ray.tmin)) * along > slack && (double(ray.tmax) - t) * along > slack)) continue;
+        Projected p;
+        for (int c = 0; c < 3; ++c) {
+            p.vertex[c] = welded_[mesh.indices[3 * size_t(tri) + size_t(c)]];
+            across.project(w.v[c], p.x[c], p.y[c]);
+        }
+        inside = inside || depth > 0.0;
+        if (depth > slack) t_covering = std::min(t_covering, t);
+        if (depth > -slack) t_reach = std::max(t_reach, t);
+        flat.push_back(p);
+    }
+    if (!inside) return out;
+    double nearest = INFINITY;
+    for (size_t i = 0; i < flat.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            const int n = (c + 1) % 3;
+            const uint32_t a = flat[i].vertex[c], b = flat[i].vertex[n];
+            const double third = side_of(flat[i].x[c], flat[i].y[c], flat[i].x[n], flat[i].y[n], flat[i].x[3 - c - n],
+                                         flat[i].y[3 - c - n]);
+            int sharing = 0;
+            bool opposite = false;
+            for (size_t j = 0; j < flat.size(); ++j) {
+                if (j == i) continue;
+                for (int k = 0; k < 3; ++k) {
+                    const int m = (k + 1) % 3;
+                    if (!((flat[j].vertex[k] == a && flat[j].vertex[m] == b) ||
+                          (flat[j].vertex[k] == b && flat[j].vertex[m] == a)))
+                        continue;
+                    ++sharing;
+                    const double other = side_of(flat[i].x[c], flat[i].y[c], flat[i].x[n], flat[i].y[n],
+                                                 flat[j].x[3 - k - m], flat[j].y[3 - k - m]);
+                    opposite = (third > 0.0 && other < 0.0) || (third < 0.0 && other > 0.0);
+                }
+            }
+            if (sharing == 1 && opposite) continue;  // inside the union
+            nearest = std::min(nearest, origin_segment_distance(flat[i].x[c], flat[i].y[c], flat[i].x[n], flat[i].y[n]));
+        }
+    out.certain = nearest > slack;
+    // The farthest a nearby ray's first crossing may lie: where one triangle covers every such
+    // ray, its t; else (near an inner edge) the farthest triangle within reach.
+    out.t_far = std::isfinite(t_covering) ? t_covering : t_reach;
+    out.slack_t = slack / along;
+    return out;
+}
+
+bool RoundingArbiter::certain(const Ray& ray, uint32_t prim) const { return certainty(ray, prim).certain; }
+
+bool RoundingArbiter::skipped_certain_hit(const Ray& ray, const Hit& nearer, const Hit& other) const {
+    if (!nearer.found() || nearer.prim == other.prim || (other.found() && !(nearer.t < other.t))) return false;
+    const Certainty c = certainty(ray, nearer.prim);
+    return c.certain && (!other.found() || double(other.t) > c.t_far + c.slack_t);
 }
 
 bool RoundingArbiter::candidate_within_rounding(const Ray& ray, const Hit& reference, const Hit& candidate) const {
     if ((reference.found() && !triangle(reference.prim)) || (candidate.found() && !triangle(candidate.prim)))
         return false;
     if (candidate.found() && !possible(ray, candidate)) return false;
-    const bool reference_nearer = reference.found() && (!candidate.found() || reference.t < candidate.t);
-    if (reference_nearer && reference.prim != candidate.prim && certain(ray, reference.prim)) return false;
-    return true;
+    // An impossible reference hit (a transform ignored, a t far off) is no rounding either.
+    if (reference.found() && !possible(ray, reference)) return false;
+    // Either side may have skipped the other's nearer hit: rounding explains that only when some
+    // ray within rounding of this one misses it and everything around it in the mesh. A candidate
+    // that finds a certain hit the reference missed still disagrees (the reference is then the
+    // wrong one, which the report must show too).
+    return !skipped_certain_hit(ray, reference, candidate) && !skipped_certain_hit(ray, candidate, reference);
+}
+
+bool RoundingArbiter::occlusion_within_rounding(const Ray& ray, bool candidate_occluded, const Hit& reference_closest,
+                                                const Hit& candidate_closest) const {
+    for (const Hit* h : {&reference_closest, &candidate_closest})
+        if (h->found() && !triangle(h->prim)) return false;  // shapes: no exact test here
+    if (!candidate_occluded) {
+        // The candidate's any-hit path saw nothing: right only if no occluder either structure's
+        // closest hit names is certain (its own closest hit counts: the any-hit path alone may be
+        // what is wrong).
+        for (const Hit* h : {&reference_closest, &candidate_closest})
+            if (h->found() && certain(ray, h->prim)) return false;
+        return true;
+    }
+    // The candidate's any-hit path saw an occluder the reference's did not: its closest hit must
+    // name one, possible within the interval and not certain (else the reference missed it).
+    return candidate_closest.found() && possible(ray, candidate_closest) && !certain(ray, candidate_closest.prim);
 }
 
 }  // namespace thicket

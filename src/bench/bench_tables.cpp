@@ -227,8 +227,9 @@ std::string scene_section(const SceneRows& scene, TableStyle style) {
         notes.push_back("agree: % of rays answered like embree-high (same miss, same primitive, or same t within " +
                         printf_string("%g", kTieTolerance) + " relative; any-hit: same flag), the number that "
                         "differ in parentheses; in brackets, rays whose answers differ but double-precision "
-                        "arithmetic shows this structure's right within float rounding (an edge ray, or a hit "
-                        "embree-high missed: BENCHMARKS.md, \"Agreement\"), counted as agreeing; max dt rel: largest "
+                        "arithmetic shows both answers possible within float rounding of this ray (a ray at the "
+                        "mesh's outer edge: README, \"How thicket bench counts agreement\"), counted as agreeing; "
+                        "max dt rel: largest "
                         "relative t difference among the rays that agree by the first rule and hit.");
     else
         notes.push_back("agree: no Embree reference in this run, so no ray-for-ray comparison.");

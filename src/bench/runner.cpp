@@ -257,14 +257,16 @@ std::vector<BenchRow> bench_scene(const Scene& scene, const std::string& label, 
                     const HitArbiter settle_hits = [&](size_t i, const Hit& r, const Hit& c) {
                         return arbiter.candidate_within_rounding(traced[i], r, c);
                     };
-                    // Flags name no primitive: both structures' closest hits within the ray's
-                    // interval stand for them.
+                    // Flags name no primitive: the candidate's any-hit answer is settled with
+                    // both structures' closest hits within the ray's interval as witnesses
+                    // (RoundingArbiter::occlusion_within_rounding), so that a wrong any-hit path
+                    // shows even where its closest-hit path is right.
                     const FlagArbiter settle_flags = [&](size_t i) {
                         const std::span<const Ray> one(&traced[i], 1);
                         Hit r, c;
                         reference_tracer->trace(one, std::span<Hit>(&r, 1), 1, false);
                         tracer->trace(one, std::span<Hit>(&c, 1), 1, false);
-                        return arbiter.candidate_within_rounding(traced[i], r, c);
+                        return arbiter.occlusion_within_rounding(traced[i], flags[i] != 0, r, c);
                     };
                     const bool arbitrate = !is_reference && reference_tracer;
                     const Agreement a =

@@ -370,7 +370,9 @@ TEST_P(Refit, ScanLikeMeshUnderRigidAffineAndMirroredMotions) {
     }
     std::printf("[ scan     ] affine move: %zu triangles gained an interior, %zu lost theirs\n", gained, lost);
     ASSERT_GT(gained, 10u) << "collinear triangles must gain an interior for this to test anything";
-    if (slivers) ASSERT_GT(lost, 5u) << "slivers must lose theirs";
+    if (slivers) {
+        ASSERT_GT(lost, 5u) << "slivers must lose theirs";
+    }
     // The reference cache's key names the scene: with and without its slivers.
     for (Motion m : {Motion::Rigid, Motion::Affine, Motion::Mirror})
         check_motion(GetParam(), base, m, slivers ? "scan-like" : "scan-like-without-slivers");

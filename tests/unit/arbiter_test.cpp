@@ -1,6 +1,7 @@
 // The bench's rounding arbiter (bench/arbiter.h) settles only what float rounding can explain: a
-// ray within rounding of an edge, a distance off by a few ulps, a hit the reference missed. A
-// dropped hit inside a triangle, an invented one, a far-off t or a hit on the wrong triangle of
+// ray within rounding of the mesh's boundary, a distance off by a few ulps. A dropped hit inside
+// a triangle or in the crack between two, an invented one, a far-off t, a hit outside the ray's
+// interval, a hit the reference missed, a wrong any-hit answer or a hit on the wrong triangle of
 // an instance (its transform ignored) stay disagreements. Every figure below is worked by hand
 // from the triangle's coordinates, not by the arbiter's own arithmetic.
 #include <gtest/gtest.h>
@@ -80,10 +81,12 @@ TEST(Arbiter, RoundingIsSettled) {
     const Ray inside = down(0.5f, 1e-3f);
     EXPECT_TRUE(arbiter.certain(inside, 0));
     EXPECT_FALSE(arbiter.candidate_within_rounding(inside, Hit{1.0f, 0.5f, 1e-3f, 0}, Hit{2.0f, 0.5f, 1e-3f, 1}));
-    // The right triangle at a t one ulp off, and a hit the reference missed well inside it.
+    // The right triangle at a t one ulp off is rounding; a hit the reference missed well inside
+    // it is not (the reference is wrong there, and the report must say so).
     EXPECT_TRUE(arbiter.candidate_within_rounding(down(0.25f, 0.25f), Hit{1.0f, 0, 0, 0},
                                                   Hit{std::nextafter(1.0f, 2.0f), 0, 0, 0}));
-    EXPECT_TRUE(arbiter.candidate_within_rounding(down(0.25f, 0.25f), Hit{2.0f, 0, 0, 1}, Hit{1.0f, 0, 0, 0}));
+    EXPECT_FALSE(arbiter.candidate_within_rounding(down(0.25f, 0.25f), Hit{2.0f, 0, 0, 1}, Hit{1.0f, 0, 0, 0}));
+    EXPECT_FALSE(arbiter.candidate_within_rounding(down(0.25f, 0.25f), Hit{}, Hit{1.0f, 0, 0, 0}));
     // A triangle hit at t = 1 lies outside [0, 0.5]: not certain, so a miss is right there.
     Ray short_ray = down(0.25f, 0.25f);
     short_ray.tmax = 0.5f;
@@ -157,6 +160,110 @@ TEST(Arbiter, AgreementCountsSettledRaysApart) {
     EXPECT_EQ(flags.agreeing, 2u);
     EXPECT_EQ(flags.arbitrated, 1u);
     EXPECT_EQ(flags.first_mismatch, 2u);
+}
+
+/// Two triangles sharing the diagonal of the unit square at z = 0: 0 = (0,0),(1,0),(1,1) below
+/// it, 1 = (0,0),(1,1),(0,1) above, the shared vertices repeated (as an unwelded export has them).
+Scene square() {
+    Scene s;
+    s.name = "square";
+    TriangleMesh m;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    m.indices = {0, 1, 2, 3, 4, 5};
+    s.add_mesh(m);
+    return s;
+}
+
+TEST(Arbiter, ACrackBetweenTwoTrianglesIsNoExcuse) {
+    const Scene s = square();
+    const RoundingArbiter arbiter(s);
+    // On the shared diagonal (1e-7 below it): each triangle alone is within rounding of its edge,
+    // but every nearby ray crosses one of the two. The planted bug: a traversal that skipped the
+    // node holding both, answering a miss.
+    const Ray crack = down(0.5f, 0.5f - 1e-7f);
+    EXPECT_TRUE(arbiter.certain(crack, 0)) << "the union of the two covers the crack";
+    EXPECT_FALSE(arbiter.candidate_within_rounding(crack, Hit{1.0f, 0, 0, 0}, Hit{}));
+    EXPECT_FALSE(arbiter.candidate_within_rounding(crack, Hit{}, Hit{1.0f, 0, 0, 0})) << "the reference skipped it";
+    // Either triangle at the crack is rounding.
+    EXPECT_TRUE(arbiter.candidate_within_rounding(crack, Hit{1.0f, 0, 0, 0}, Hit{1.0f, 0, 0, 1}));
+    EXPECT_TRUE(arbiter.candidate_within_rounding(crack, Hit{1.0f, 0, 0, 1}, Hit{1.0f, 0, 0, 0}));
+    // 1e-7 inside the square's outer edge y = 0: no triangle beyond it, a miss is rounding.
+    const Ray rim = down(0.7f, 1e-7f);
+    EXPECT_FALSE(arbiter.certain(rim, 0));
+    EXPECT_TRUE(arbiter.candidate_within_rounding(rim, Hit{1.0f, 0, 0, 0}, Hit{}));
+    EXPECT_TRUE(arbiter.candidate_within_rounding(rim, Hit{}, Hit{1.0f, 0, 0, 0}));
+    // Folded: triangle 1 turned down about the diagonal until, seen from above, it lies over
+    // triangle 0; the crack then opens for rays from above, and a miss there is rounding again.
+    Scene folded = square();
+    folded.mesh.positions[5] = Vec3(1.0f, 0.2f, -0.5f);
+    const RoundingArbiter fold_arbiter(folded);
+    const Ray over_fold = down(0.5f, 0.5f + 1e-7f);
+    EXPECT_FALSE(fold_arbiter.certain(over_fold, 0));
+}
+
+TEST(Arbiter, HitsOutsideTheRaysIntervalAreNeverPossible) {
+    const Scene s = two_triangles();
+    const RoundingArbiter arbiter(s);
+    // Triangle 0 lies at t = 1 on this ray; the planted bug reports it on a ray that ends at 0.5
+    // or starts at 1.5 (the point is on the triangle: only the interval can refuse it).
+    Ray shorter = down(0.25f, 0.25f);
+    shorter.tmax = 0.5f;
+    EXPECT_FALSE(arbiter.possible(shorter, Hit{1.0f, 0.25f, 0.25f, 0}));
+    EXPECT_FALSE(arbiter.candidate_within_rounding(shorter, Hit{}, Hit{1.0f, 0.25f, 0.25f, 0}));
+    Ray later = down(0.25f, 0.25f);
+    later.tmin = 1.5f;
+    EXPECT_FALSE(arbiter.possible(later, Hit{1.0f, 0.25f, 0.25f, 0}));
+    // At tmax within rounding: possible.
+    Ray ending = down(0.25f, 0.25f);
+    ending.tmax = std::nextafter(1.0f, 0.0f);
+    EXPECT_TRUE(arbiter.possible(ending, Hit{1.0f, 0.25f, 0.25f, 0}));
+}
+
+TEST(Arbiter, AnyHitAnswersAreSettledOnAnyHitAnswers) {
+    const Scene s = two_triangles();
+    const RoundingArbiter arbiter(s);
+    const Ray centre = down(0.25f, 0.25f);
+    const Hit inside{1.0f, 0.25f, 0.25f, 0};
+    // The planted bug: a candidate whose any-hit path says "not occluded" while its closest-hit
+    // path (and the reference) find the triangle's middle. Settled on closest hits it passed.
+    EXPECT_FALSE(arbiter.occlusion_within_rounding(centre, false, inside, inside));
+    EXPECT_FALSE(arbiter.occlusion_within_rounding(centre, false, Hit{}, inside)) << "its own closest hit betrays it";
+    // An occluder the candidate invents (no closest hit names one), or a certain one the
+    // reference missed.
+    EXPECT_FALSE(arbiter.occlusion_within_rounding(down(0.6f, 0.5f), true, Hit{}, Hit{}));
+    EXPECT_FALSE(arbiter.occlusion_within_rounding(centre, true, Hit{}, inside));
+    // Within rounding of the edge: either answer.
+    const Ray edge = down(0.5f, 1e-7f);
+    const Hit at_edge{1.0f, 0.5f, 1e-7f, 0};
+    Ray edge_shadow = edge;
+    edge_shadow.tmax = 1.5f;  // ends before the triangle behind
+    EXPECT_TRUE(arbiter.occlusion_within_rounding(edge_shadow, false, at_edge, Hit{}));
+    EXPECT_TRUE(arbiter.occlusion_within_rounding(edge_shadow, true, Hit{}, at_edge));
+}
+
+TEST(Arbiter, AMissingInstanceTransformAndIllConditionedInstancesAreNotForgiven) {
+    Scene s = two_triangles();
+    // One instance moving the two triangles by (10, 0, 0): the planted bug is a reference that
+    // ignores the transform and misses there, or answers at the prototype's place.
+    Affine moved;
+    moved.m[0][3] = 10.0f;
+    s.add_instance(0, moved);
+    // A second one stretched 50x in x and squeezed 50x in y (condition number 2,500).
+    Affine stretched;
+    stretched.m[0][0] = 50.0f;
+    stretched.m[1][1] = 0.02f;
+    stretched.m[2][3] = -10.0f;
+    s.add_instance(0, stretched);
+    const RoundingArbiter arbiter(s);
+    const Ray into = down(10.25f, 0.25f);
+    const Hit right{1.0f, 0.25f, 0.25f, 0};
+    EXPECT_FALSE(arbiter.candidate_within_rounding(into, Hit{}, right)) << "the reference missed a certain hit";
+    EXPECT_FALSE(arbiter.candidate_within_rounding(down(0.25f, 0.25f), Hit{1.0f, 0.25f, 0.25f, 0}, Hit{}))
+        << "the prototype's place is empty: the reference's hit is impossible there";
+    // The stretched instance's delta is widened 16 times at most, not cond / 3 = 833 times.
+    const RoundingArbiter::Verdict v = arbiter.judge(down(25.0f, 0.0025f), 2, 11.0);
+    ASSERT_TRUE(v.triangle);
+    EXPECT_DOUBLE_EQ(v.scale, kArbiterMaxScale);
 }
 
 }  // namespace arbiter_test

@@ -8,7 +8,7 @@
 /// there (the TieCheck, when the candidate's hits come from Thicket's own tests). Two any-hit
 /// answers agree when both flags are equal. A ray that fails this rule still agrees when an arbiter
 /// (the bench's RoundingArbiter, bench/arbiter.h) shows the candidate's answer right within float
-/// rounding (an edge ray, or a hit the reference missed); such rays are counted apart. The
+/// rounding (a ray at the mesh's outer edge: bench/arbiter.h); such rays are counted apart. The
 /// largest t difference over the agreeing rays is reported as well.
 #include <cstddef>
 #include <cstdint>
