@@ -32,7 +32,7 @@ if(CMAKE_SYSTEM_PROCESSOR MATCHES "x86_64|AMD64|amd64" AND CMAKE_CXX_COMPILER_ID
       if(TARGET thicket_test_programs)
         add_dependencies(thicket_test_programs thicket_bvh8_isa_trap)
       endif()
-      set(_check ${PROJECT_SOURCE_DIR}/tests/bvh8/check_isa_confinement.sh)
+      set(_check ${THICKET_TEST_WRAPPER} ${PROJECT_SOURCE_DIR}/tests/bvh8/check_isa_confinement.sh)
       add_test(NAME bvh8.isa_confinement COMMAND ${_check} ${THICKET_OBJDUMP} clean $<TARGET_FILE:thicket>)
       add_test(NAME bvh8.isa_confinement_detects_trap
         COMMAND ${_check} ${THICKET_OBJDUMP} violation $<TARGET_FILE:thicket_bvh8_isa_trap> "(^| )thicket::hit_within_bounds[<(]")
