@@ -140,10 +140,21 @@ def test_other_queries_with_instances():
     np.testing.assert_array_equal(c["geometry_ids"], table[d["geometry_ids"], 1])
     np.testing.assert_allclose(inst.compute_distance(query), ref.compute_distance(query), atol=1e-5)
     np.testing.assert_array_equal(inst.compute_occupancy(query), ref.compute_occupancy(query))
-    # A moved instance moves the closest points too.
+    # Signed distance and occupancy (issue 45), on points inside and outside the closed meshes.
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    inside_and_out = (lo + np.random.default_rng(4).random((600, 3)) * (hi - lo)).astype(np.float32)
+    want_occupancy = ref.compute_occupancy(inside_and_out)
+    assert 0 < want_occupancy.sum() < len(inside_and_out), "points both inside and outside"
+    np.testing.assert_array_equal(inst.compute_occupancy(inside_and_out), want_occupancy)
+    np.testing.assert_allclose(inst.compute_signed_distance(inside_and_out), ref.compute_signed_distance(inside_and_out),
+                               atol=1e-5)
+    # A moved instance moves the closest points, the signed distance and the occupancy too.
     inst.set_transform(1, TRANSFORMS["rotate"])
     _, ref2, _, _ = pair([(0, TRANSFORMS["shear"]), (2, TRANSFORMS["rotate"])])
     np.testing.assert_allclose(inst.compute_distance(query), ref2.compute_distance(query), atol=1e-5)
+    np.testing.assert_allclose(inst.compute_signed_distance(inside_and_out),
+                               ref2.compute_signed_distance(inside_and_out), atol=1e-5)
+    np.testing.assert_array_equal(inst.compute_occupancy(inside_and_out), ref2.compute_occupancy(inside_and_out))
 
 
 def test_open3d_style_usage():
