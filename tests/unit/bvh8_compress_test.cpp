@@ -2,11 +2,14 @@
 // box it stands for, on adversarial nodes (tiny, flat, huge, far from the origin, one lane) and
 // on a built tree; quantization is tight (within a step of the exact plane), not merely outward;
 // what cannot be held is refused by name; infinite and NaN planes hold every finite point. The traversal's answers are the conformance suite's
-// (variants bvh8:isa=<each>,nodes=compressed against brute force).
+// (variants bvh8:isa=<each>,nodes=compressed against brute force). The grid is the finest that
+// spans each node (the least sufficient exponent, worked in the test).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <string>
 
@@ -62,8 +65,37 @@ void expect_contains(const bvh8::Node& node, const bvh8::QNode& q, const std::st
     }
 }
 
+/// How often a node's axis took the smallest sufficient exponent, or one more.
+struct ExponentTally {
+    size_t axes = 0, one_above = 0;
+};
+
+/// The exponent each finite axis of `node` needs at the least, worked here rather than read from
+/// the code: the smallest e >= -126 whose 255 steps span [smallest lower plane, largest upper
+/// plane]. The code may take one more where decoding in float falls short of the top plane (rare);
+/// a looser grid (a slower-but-correct mutant: larger boxes, more nodes entered) fails here.
+void expect_smallest_exponent(const bvh8::Node& node, const bvh8::QNode& q, const std::string& where,
+                              ExponentTally& tally) {
+    for (int a = 0; a < 3; ++a) {
+        double lo = INFINITY, hi = -INFINITY;
+        for (int lane = 0; lane < bvh8::kWidth; ++lane) {
+            if (!((node.valid >> lane) & 1u)) continue;
+            lo = std::min(lo, double(node.box[a][0][lane]));
+            hi = std::max(hi, double(node.box[a][1][lane]));
+        }
+        if (!std::isfinite(lo) || !std::isfinite(hi)) continue;
+        int least = -126;
+        while (255.0 * std::ldexp(1.0, least) < hi - lo) ++least;
+        ++tally.axes;
+        EXPECT_GE(q.exponent[a], least) << where << " axis " << a << ": a grid too fine to span the node";
+        EXPECT_LE(q.exponent[a], least + 1) << where << " axis " << a << ": a grid coarser than needed";
+        tally.one_above += q.exponent[a] == least + 1 ? 1 : 0;
+    }
+}
+
 TEST(Bvh8Compress, DecodedBoxesContainTheExactOnesWithinAStep) {
     std::mt19937 rng(7);
+    ExponentTally tally;
     const float centres[] = {0.0f, 1.0f, -3.5f, 1e4f, -1e7f, 3e12f, 1e-20f};
     const float sizes[] = {1.0f, 1e-3f, 1e-9f, 1e3f, 1e20f, 1e-30f};
     for (float centre : centres)
@@ -72,11 +104,15 @@ TEST(Bvh8Compress, DecodedBoxesContainTheExactOnesWithinAStep) {
                 for (int k = 0; k < 20; ++k) {
                     const bvh8::Node node = random_node(rng, centre, size, lanes);
                     const bvh8::QNodes q = bvh8::compress_nodes({&node, 1});
-                    expect_contains(node, q[0],
-                                    "centre " + std::to_string(centre) + " size " + std::to_string(size));
+                    const std::string where = "centre " + std::to_string(centre) + " size " + std::to_string(size);
+                    expect_contains(node, q[0], where);
+                    expect_smallest_exponent(node, q[0], where, tally);
                     if (HasFatalFailure() || HasFailure()) return;
                 }
             }
+    std::printf("[ exponent ] %zu of %zu axes took one step more than the least sufficient exponent\n",
+                tally.one_above, tally.axes);
+    EXPECT_LE(tally.one_above, tally.axes / 50);
 }
 
 TEST(Bvh8Compress, FlatAndPointBoxesAndTheLargestFloats) {
