@@ -51,6 +51,11 @@ def main():
     entries = json.loads(shown.stdout)["tests"]
     failed = False
     for program in programs:
+        if not os.path.exists(program):
+            # Declared but not built in this tree (the sanitizer job builds the suite's programs
+            # only): the entries that run it fail by themselves if they run.
+            print(f"{os.path.basename(program)}: not built in this tree, not checked")
+            continue
         real = os.path.realpath(program)
         filters = []  # one per entry running this program: its filter, "*" without one
         for entry in entries:
