@@ -1,11 +1,10 @@
 #include "thicket/bench/arbiter.h"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
-#include <unordered_map>
 
 #include "thicket/core/vec3.h"
+#include "thicket/geometry/weld.h"
 #include "thicket/scene/instance.h"
 
 namespace thicket {
@@ -66,13 +65,10 @@ double side_of(double ax, double ay, double bx, double by, double px, double py)
     return (bx - ax) * (py - ay) - (by - ay) * (px - ax);
 }
 
-/// How far the ray through o along d may move sideways and still cross triangle v (> 0), or how
-/// far it misses it (< 0): the triangle projected onto the plane across the ray, where the ray is
-/// the origin.
-double sideways_depth(const Vec3d& o, const Vec3d& d, const Vec3d (&v)[3]) {
-    const AcrossRay across(o, d);
-    double x[3], y[3];
-    for (int i = 0; i < 3; ++i) across.project(v[i], x[i], y[i]);
+/// How far a ray may move sideways and still cross a triangle (> 0), or how far it misses it
+/// (< 0), from the triangle's corners (x[i], y[i]) projected across the ray (AcrossRay), where
+/// the ray is the origin.
+double projected_depth(const double (&x)[3], const double (&y)[3]) {
     double nearest = INFINITY;
     int positive = 0, negative = 0;
     for (int i = 0; i < 3; ++i) {
@@ -87,28 +83,28 @@ double sideways_depth(const Vec3d& o, const Vec3d& d, const Vec3d (&v)[3]) {
     return inside ? nearest : -nearest;
 }
 
+/// projected_depth of triangle v for the ray through o along d.
+double sideways_depth(const Vec3d& o, const Vec3d& d, const Vec3d (&v)[3]) {
+    const AcrossRay across(o, d);
+    double x[3], y[3];
+    for (int i = 0; i < 3; ++i) across.project(v[i], x[i], y[i]);
+    return projected_depth(x, y);
+}
+
+/// Where the ray through o along d meets the plane of triangle v (NaN: parallel to it).
+double plane_t(const Vec3d& o, const Vec3d& d, const Vec3d (&v)[3]) {
+    const Vec3d normal = cross(v[1] - v[0], v[2] - v[0]);
+    const double facing = dot(normal, d);
+    return facing != 0.0 ? dot(normal, v[0] - o) / facing : NAN;
+}
+
 }  // namespace
 
 RoundingArbiter::RoundingArbiter(const Scene& scene) : scene_(scene) {
     // Vertices welded by their exact position (meshes that repeat a vertex per face still share
     // edges), then each welded vertex's triangles, in compressed rows.
     const TriangleMesh& mesh = scene.mesh;
-    welded_.resize(mesh.positions.size());
-    std::unordered_map<uint64_t, std::vector<uint32_t>> by_bits;
-    for (uint32_t v = 0; v < mesh.positions.size(); ++v) {
-        const Vec3& p = mesh.positions[v];
-        const uint64_t key = (uint64_t(std::bit_cast<uint32_t>(p.x)) * 0x9e3779b97f4a7c15ULL) ^
-                             (uint64_t(std::bit_cast<uint32_t>(p.y)) * 0xc2b2ae3d27d4eb4fULL) ^
-                             uint64_t(std::bit_cast<uint32_t>(p.z));
-        std::vector<uint32_t>& same = by_bits[key];
-        welded_[v] = v;
-        for (uint32_t w : same)
-            if (mesh.positions[w] == p) {
-                welded_[v] = w;
-                break;
-            }
-        if (welded_[v] == v) same.push_back(v);
-    }
+    welded_ = weld_by_position(mesh.positions);
     const size_t triangles = mesh.indices.size() / 3;
     ring_first_.assign(mesh.positions.size() + 1, 0);
     for (uint32_t index : mesh.indices) ++ring_first_[welded_[index] + 1];
@@ -174,9 +170,7 @@ RoundingArbiter::Verdict RoundingArbiter::judge(const Ray& ray, uint32_t prim, d
     if (!tri) return out;
     out.triangle = true;
     const Vec3d o(ray.org), d(ray.dir);
-    const Vec3d normal = cross(tri->v[1] - tri->v[0], tri->v[2] - tri->v[0]);
-    const double facing = dot(normal, d);
-    out.t = facing != 0.0 ? dot(normal, tri->v[0] - o) / facing : NAN;
+    out.t = plane_t(o, d, tri->v);
     out.depth = sideways_depth(o, d, tri->v);
     out.point_distance = point_triangle_distance(o + d * t_asked, tri->v[0], tri->v[1], tri->v[2]);
     out.delta = delta(ray, t_asked, tri->scale);
@@ -211,11 +205,7 @@ RoundingArbiter::Certainty RoundingArbiter::certainty(const Ray& ray, uint32_t p
     std::sort(around.begin(), around.end());
     around.erase(std::unique(around.begin(), around.end()), around.end());
 
-    const Triangle own = world(*at, at->triangle);
-    const Vec3d own_normal = cross(own.v[1] - own.v[0], own.v[2] - own.v[0]);
-    const double own_facing = dot(own_normal, d);
-    if (own_facing == 0.0) return out;
-    const double own_t = dot(own_normal, own.v[0] - o) / own_facing;
+    const double own_t = plane_t(o, d, world(*at, at->triangle).v);
     if (!std::isfinite(own_t)) return out;
     const double slack = delta(ray, own_t, at->scale);
 
@@ -234,20 +224,18 @@ RoundingArbiter::Certainty RoundingArbiter::certainty(const Ray& ray, uint32_t p
     double t_covering = INFINITY, t_reach = -INFINITY;  // nearest t of a triangle alone covering, farthest reachable
     for (uint32_t tri : around) {
         const Triangle w = world(*at, tri);
-        const Vec3d normal = cross(w.v[1] - w.v[0], w.v[2] - w.v[0]);
-        const double facing = dot(normal, d);
-        const double t = facing != 0.0 ? dot(normal, w.v[0] - o) / facing : NAN;
-        const double depth = sideways_depth(o, d, w.v);
-        if (!std::isfinite(t)) {
-            if (depth > -slack) return out;  // edge-on to the ray within reach: no certain crossing
-            continue;
-        }
-        if (!((t - double(ray.tmin)) * along > slack && (double(ray.tmax) - t) * along > slack)) continue;
+        const double t = plane_t(o, d, w.v);
         Projected p;
         for (int c = 0; c < 3; ++c) {
             p.vertex[c] = welded_[mesh.indices[3 * size_t(tri) + size_t(c)]];
             across.project(w.v[c], p.x[c], p.y[c]);
         }
+        const double depth = projected_depth(p.x, p.y);
+        if (!std::isfinite(t)) {
+            if (depth > -slack) return out;  // edge-on to the ray within reach: no certain crossing
+            continue;
+        }
+        if (!((t - double(ray.tmin)) * along > slack && (double(ray.tmax) - t) * along > slack)) continue;
         inside = inside || depth > 0.0;
         if (depth > slack) t_covering = std::min(t_covering, t);
         if (depth > -slack) t_reach = std::max(t_reach, t);

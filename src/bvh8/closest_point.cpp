@@ -86,15 +86,13 @@ float closest_in_blocks(void* query, uint32_t first, uint32_t size) {
 
 }  // namespace
 
-NearestPoint closest_point(const KernelTable& kernels, std::initializer_list<const TraceContext*> trees, const Vec3& p) {
+NearestPoint closest_point(const KernelTable& kernels, const TraceContext* tree, const Vec3& p) {
     // The kernel sees the best only through the bound the leaf test returns.
     PointQuery q{p, nullptr, NearestPoint{}};
+    if (!tree) return q.best;
     const float point[3] = {p.x, p.y, p.z};
-    for (const TraceContext* tree : trees) {
-        if (!tree) continue;
-        q.blocks = tree->blocks;
-        kernels.closest_point(*tree, point, bound_of(q.best.distance), &closest_in_blocks, &q);
-    }
+    q.blocks = tree->blocks;
+    kernels.closest_point(*tree, point, bound_of(q.best.distance), &closest_in_blocks, &q);
     return q.best;
 }
 

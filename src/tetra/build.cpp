@@ -7,12 +7,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 #include <unordered_map>
 
 #include "tetra/tetgen_run.h"
 #include "thicket/bvh/build.h"
 #include "thicket/core/error.h"
+#include "thicket/geometry/weld.h"
 #include "thicket/tetra/build.h"
 #include "thicket/tetra/walk.h"
 
@@ -23,13 +23,8 @@ namespace {
 using tetra_detail::TetgenInput;
 using tetra_detail::TetgenResult;
 
-
-/// Hash of three 32-bit words (a vertex's coordinate bits, a face's sorted vertex ids).
-struct BitsHash {
-    size_t operator()(const std::array<uint32_t, 3>& k) const {
-        return (size_t(k[0]) * 0x9E3779B97F4A7C15ull) ^ (size_t(k[1]) * 0xC2B2AE3D27D4EB4Full) ^ (size_t(k[2]) + 0x165667B19E3779F9ull);
-    }
-};
+// PointBitsHash (geometry/weld.h) hashes any three 32-bit words: a vertex's coordinate bits, a
+// face's sorted vertex ids.
 
 /// The scene's triangles as TetGen's input: welded vertices (box corners first), triangles
 /// that are neither degenerate nor repeats; the others are appended to `fallback`.
@@ -40,8 +35,8 @@ struct Cleaned {
 
 Cleaned clean(const TetraInput& input, std::vector<uint32_t>& fallback, Vec3d& lo, Vec3d& hi) {
     Cleaned c;
-    std::unordered_map<std::array<uint32_t, 3>, int, BitsHash> ids;
-    std::unordered_map<std::array<uint32_t, 3>, int, BitsHash> seen;  // sorted vertex ids
+    std::unordered_map<std::array<uint32_t, 3>, int, PointBitsHash> ids;
+    std::unordered_map<std::array<uint32_t, 3>, int, PointBitsHash> seen;  // sorted vertex ids
     std::vector<Vec3> verts;
     Aabb box;
     for (uint32_t i = 0; i < input.count; ++i) {
@@ -54,9 +49,7 @@ Cleaned clean(const TetraInput& input, std::vector<uint32_t>& fallback, Vec3d& l
         bool finite = true;
         for (int k = 0; k < 3; ++k) {
             finite = finite && std::isfinite(t[k].x) && std::isfinite(t[k].y) && std::isfinite(t[k].z);
-            std::array<uint32_t, 3> key;
-            std::memcpy(key.data(), &t[k], sizeof key);
-            const auto [it, added] = ids.try_emplace(key, int(verts.size()));
+            const auto [it, added] = ids.try_emplace(point_bits(t[k]), int(verts.size()));
             if (added) verts.push_back(t[k]);
             tri[k] = uint32_t(it->second);
         }
@@ -161,7 +154,7 @@ void assemble(const TetgenResult& r, const Cleaned& c, const TetraInput& input, 
     if (uncovered > 0)
         note(data.report, std::to_string(uncovered) + " triangle(s) not covered by their constrained faces set aside");
     // Each tetrahedron face's triangle, looked up by the face's sorted vertex ids.
-    std::unordered_map<std::array<uint32_t, 3>, uint32_t, BitsHash> face_of;
+    std::unordered_map<std::array<uint32_t, 3>, uint32_t, PointBitsHash> face_of;
     for (size_t f = 0; f < o.face_markers.size(); ++f) {
         const int marker = o.face_markers[f];
         if (marker < 1 || size_t(marker) > c.prims.size() || !meshed[size_t(marker) - 1]) continue;

@@ -193,12 +193,16 @@ TEST(Arbiter, ACrackBetweenTwoTrianglesIsNoExcuse) {
     EXPECT_TRUE(arbiter.candidate_within_rounding(rim, Hit{1.0f, 0, 0, 0}, Hit{}));
     EXPECT_TRUE(arbiter.candidate_within_rounding(rim, Hit{}, Hit{1.0f, 0, 0, 0}));
     // Folded: triangle 1 turned down about the diagonal until, seen from above, it lies over
-    // triangle 0; the crack then opens for rays from above, and a miss there is rounding again.
+    // triangle 0; the shared edge then bounds both, and a ray 1e-7 inside it (inside both
+    // projections) may miss both by rounding: a rule that took every shared edge as interior
+    // would call it certain.
     Scene folded = square();
     folded.mesh.positions[5] = Vec3(1.0f, 0.2f, -0.5f);
     const RoundingArbiter fold_arbiter(folded);
-    const Ray over_fold = down(0.5f, 0.5f + 1e-7f);
-    EXPECT_FALSE(fold_arbiter.certain(over_fold, 0));
+    const Ray in_fold = down(0.5f, 0.5f - 1e-7f);
+    EXPECT_GT(fold_arbiter.judge(in_fold, 1, 1.0).depth, 0.0) << "inside the folded triangle's projection too";
+    EXPECT_FALSE(fold_arbiter.certain(in_fold, 0));
+    EXPECT_TRUE(fold_arbiter.candidate_within_rounding(in_fold, Hit{1.0f, 0, 0, 0}, Hit{}));
 }
 
 TEST(Arbiter, HitsOutsideTheRaysIntervalAreNeverPossible) {

@@ -155,7 +155,7 @@ public:
     /// triangles included (their points are on the surface; rays never hit them); shapes: Error.
     NearestPoint closest_point(const Vec3& p) const override {
         if constexpr (kBlocks)
-            return bvh8::closest_point(*kernels_, {node_count_ == 0 ? nullptr : &ctx_}, p);
+            return bvh8::closest_point(*kernels_, node_count_ == 0 ? nullptr : &ctx_, p);
         else
             return Accel::closest_point(p);  // shapes: refused with the reason
     }
