@@ -69,7 +69,8 @@ std::unique_ptr<Splitter> make_splitter(BuildContext& ctx) {
     throw Error("unknown BVH builder");
 }
 
-/// Fills the centroid-axis bits of each interior node's order byte from its children's boxes.
+/// Fills the centroid-axis bits of each interior node's order byte, and which child is higher on
+/// its split axis, from its children's boxes' centres (refit.cpp recomputes them the same way).
 void compute_child_order(BvhData& bvh) {
     for (uint32_t n = 0; n < bvh.nodes_used; ++n) {
         const BvhNode& node = bvh.nodes[n];
@@ -77,7 +78,8 @@ void compute_child_order(BvhData& bvh) {
         const Vec3 cl = bvh.nodes[node.leftFirst].bounds().center();
         const Vec3 cr = bvh.nodes[node.leftFirst + 1].bounds().center();
         const int axis = max_axis(abs(cr - cl));
-        bvh.child_order[n] = ChildOrder::pack(ChildOrder::split_axis(bvh.child_order[n]), axis, cl[axis] > cr[axis]);
+        const int split = ChildOrder::split_axis(bvh.child_order[n]);
+        bvh.child_order[n] = ChildOrder::pack(split, axis, cl[axis] > cr[axis], cl[split] > cr[split]);
     }
 }
 
@@ -377,7 +379,7 @@ void validate_bvh_bounds(const BvhData& bvh, std::span<const Aabb> prim_bounds, 
             continue;
         }
         const uint8_t order = bvh.child_order[i];
-        if (ChildOrder::split_axis(order) > 2 || ChildOrder::centroid_axis(order) > 2 || order >= 32)
+        if (ChildOrder::split_axis(order) > 2 || ChildOrder::centroid_axis(order) > 2 || order >= ChildOrder::kBits)
             throw Error("invalid BVH: node " + std::to_string(i) + " has child-order byte " + std::to_string(order));
         for (uint32_t c = node.leftFirst; c <= node.leftFirst + 1; ++c) {
             if (sticks_out(bvh.nodes[c].bounds(), box))

@@ -29,11 +29,13 @@ void refit_bvh(BvhData& bvh, std::span<const Aabb> prim_bounds) {
             const Aabb left = bvh.nodes[node.leftFirst].bounds(), right = bvh.nodes[node.leftFirst + 1].bounds();
             box.grow(left);
             box.grow(right);
-            // The ordered-centroid traversal's hint, recomputed as the build does (compute_child_order).
+            // The ordered traversals' hints, recomputed as the build does (compute_child_order):
+            // a mirror or a turn can put the left child on the higher side of its split axis.
             const Vec3 cl = left.center(), cr = right.center();
             const int axis = max_axis(abs(cr - cl));
             uint8_t& order_byte = bvh.child_order[order[k]];
-            order_byte = ChildOrder::pack(ChildOrder::split_axis(order_byte), axis, cl[axis] > cr[axis]);
+            const int split = ChildOrder::split_axis(order_byte);
+            order_byte = ChildOrder::pack(split, axis, cl[axis] > cr[axis], cl[split] > cr[split]);
         }
         node.aabbMin = box.min;
         node.aabbMax = box.max;

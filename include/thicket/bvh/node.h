@@ -27,16 +27,20 @@ static_assert(sizeof(BvhNode) == 32, "the lecture's node is 32 bytes: two per ca
 static_assert(sizeof(BvhNodeD) == 64, "one double node per cache line");
 
 /// Per interior node, what the ordered traversals need beside the 32-byte node (one byte, kept
-/// apart so the node stays 32 bytes): bits 0-1 the split axis (the left child holds the lower
-/// side), bits 2-3 the axis of widest child-centroid separation, bit 4 set when on that axis the
-/// left child's centroid is the higher one.
+/// apart so the node stays 32 bytes): bits 0-1 the split axis, bits 2-3 the axis of widest
+/// child-centroid separation, bit 4 set when on that axis the left child's centroid is the higher
+/// one, bit 5 set when on the split axis it is (a refit after a mirror, a bottom-up builder: the
+/// left child no longer holds the lower side, and the ordered-axis traversal must know).
 struct ChildOrder {
-    static uint8_t pack(int split_axis, int centroid_axis, bool left_is_higher) {
-        return uint8_t(split_axis | (centroid_axis << 2) | (left_is_higher ? 16 : 0));
+    static uint8_t pack(int split_axis, int centroid_axis, bool left_is_higher, bool split_left_higher = false) {
+        return uint8_t(split_axis | (centroid_axis << 2) | (left_is_higher ? 16 : 0) | (split_left_higher ? 32 : 0));
     }
     static int split_axis(uint8_t b) { return b & 3; }
     static int centroid_axis(uint8_t b) { return (b >> 2) & 3; }
     static bool left_is_higher(uint8_t b) { return (b & 16) != 0; }
+    static bool split_left_higher(uint8_t b) { return (b & 32) != 0; }
+    /// Every bit a valid byte may set.
+    static constexpr uint8_t kBits = 64;
 };
 
 /// Deepest tree a builder makes; past kMaxSahDepth builders fall back to median splits, which

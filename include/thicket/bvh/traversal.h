@@ -85,7 +85,8 @@ struct QueryOver : QueryState<AnyHit, Data, Prims, C, /*Records=*/true, typename
             if constexpr (Order == BvhTraversal::OrderedDistance) {
                 return t_second < t_first;
             } else if constexpr (Order == BvhTraversal::OrderedAxis) {
-                return box.neg[ChildOrder::split_axis(data.child_order[n])] != 0;
+                const uint8_t order = data.child_order[n];
+                return (box.neg[ChildOrder::split_axis(order)] != 0) != ChildOrder::split_left_higher(order);
             } else {
                 const uint8_t order = data.child_order[n];
                 return (box.neg[ChildOrder::centroid_axis(order)] != 0) != ChildOrder::left_is_higher(order);
