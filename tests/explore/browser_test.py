@@ -8,7 +8,8 @@ served with bvh, grid, kdtree and tetra it
 - clicks "compute" for the heatmap: the page's hottest pixel must be the server's for the request
   the page sent;
 - clicks a pixel of the view: the page must have traced the pixel under the mouse (the server's
-  ray for that pixel and camera), and the steps it lists must be `thicket explain`'s for that ray,
+  ray for that pixel and camera, which projects back under the mouse through the camera the page
+  draws with), and the steps it lists must be `thicket explain`'s for that ray,
   for the BVH and for the tetrahedral walk; "next" steps through them;
 - logs no console error, no exception and no failed request.
 It saves a screenshot at each stage (docs/explore.md shows them).
@@ -19,6 +20,7 @@ Skips (GoogleTest's "[  SKIPPED ]" line, which ctest reports as a skip) only whe
 """
 import base64
 import json
+import math
 import os
 import re
 import shutil
@@ -203,6 +205,17 @@ def check_trace(page, url, thicket, scene, structure, fx, fy):
                                      "height": pixel["height"], "x": pixel["x"], "y": pixel["y"]})
     if server["ray"] != trace["ray"]:
         fail("%s: the page traced ray %s, the server's for the pixel is %s" % (name, trace["ray"], server["ray"]))
+    # The ray runs under the mouse through the camera the page draws with (a mirrored or shifted
+    # pixel ray passes the checks above): a point along it, as far as the target, projects back
+    # onto the click, within one traced pixel (the click need not be at its pixel's centre).
+    cam, org, dirn = pixel["camera"], trace["ray"]["org"], trace["ray"]["dir"]
+    d = math.dist(cam["eye"], cam["target"])
+    point = [org[a] + dirn[a] * d for a in range(3)]
+    shown = page.b.evaluate("window.thicketExplore.project(%s)" % json.dumps(point))
+    cell = (rect[2] / pixel["width"], rect[3] / pixel["height"])
+    if abs(shown[0] - x) > cell[0] + 0.5 or abs(shown[1] - y) > cell[1] + 0.5:
+        fail("%s: the click at %d,%d traced a ray the page draws at %.1f,%.1f (a traced pixel is %.1f x %.1f)" %
+             (name, x, y, shown[0], shown[1], cell[0], cell[1]))
     # What the list shows, read from the DOM, against `thicket explain` for the same ray.
     items = page.b.evaluate("[...document.querySelectorAll('#steps li')].map((li) => li.textContent)")
     listed = []
@@ -290,7 +303,7 @@ def run(thicket, scene, url, browser, outdir):
     check_drawing(page, url, 0, 2, shot("bvh"))
     camera = check_heatmap(page, url)
     page.click("overlay-on")  # the heatmap off, so the ray and its boxes show
-    bvh = check_trace(page, url, thicket, scene, 0, 0.5, 0.5)
+    bvh = check_trace(page, url, thicket, scene, 0, 0.58, 0.44)
     if page.pixel_traced["camera"] != camera:
         fail("the page traced with camera %s, its heatmap's was %s" % (page.pixel_traced["camera"], camera))
     step_to(page, min(4, len(bvh["steps"])))
@@ -300,11 +313,11 @@ def run(thicket, scene, url, browser, outdir):
         fail("dragging the view traced a pixel")
     page.screenshot(shot("bvh-trace"))
 
-    # The tetrahedral walk of the centre pixel's ray in the orbited view: the structure hidden, so
+    # The tetrahedral walk of an off-centre pixel's ray in the orbited view: the structure hidden, so
     # the walked tetrahedra stand out, then the camera orbited again and zoomed, the trace kept.
     page.choose_structure(3)
     page.click("nodes-on")
-    tetra = check_trace(page, url, thicket, scene, 3, 0.5, 0.5)
+    tetra = check_trace(page, url, thicket, scene, 3, 0.44, 0.55)
     walked = [s for s in tetra["steps"] if s["kind"] == "enter"]
     if len(walked) < 2:
         fail("the tetrahedral walk enters %d tetrahedra" % len(walked))

@@ -128,6 +128,30 @@ TEST_F(ExploreApi, PixelRayGoesThroughTheTargetAtTheCentre) {
     EXPECT_GT(dot(v.pixel_ray(2, 0).dir, v.up), dot(r.dir, v.up));
 }
 
+// Off the centre (issue 45: a mirrored camera passed the test above). The page draws with
+// three.js's camera: looking down -z with y up, x grows to the right of the image and y to its
+// top. A pixel's ray goes through its centre on the image plane at distance 1, whose half height
+// is tan(fov / 2) and half width that times the aspect ratio.
+TEST_F(ExploreApi, OffCentrePixelRaysGoThroughTheirPixelsAsThePageDrawsThem) {
+    explore::View v;
+    v.eye = {0, 0, 0};
+    v.target = {0, 0, -5};
+    v.up = {0, 1, 0};
+    v.fov_deg = 60;
+    v.width = 8;
+    v.height = 4;
+    const float half_h = std::tan(30.0f * 3.14159265358979f / 180.0f), half_w = half_h * 2.0f;
+    for (uint32_t y = 0; y < v.height; ++y)
+        for (uint32_t x = 0; x < v.width; ++x) {
+            const Vec3 want = normalize(Vec3((2.0f * (float(x) + 0.5f) / 8.0f - 1.0f) * half_w,
+                                             (1.0f - 2.0f * (float(y) + 0.5f) / 4.0f) * half_h, -1.0f));
+            const Ray r = v.pixel_ray(x, y);
+            for (int a = 0; a < 3; ++a) EXPECT_NEAR(r.dir[a], want[a], 1e-6f) << "pixel " << x << "," << y;
+        }
+    EXPECT_GT(v.pixel_ray(7, 2).dir.x, 0.0f) << "the right column looks right, not mirrored";
+    EXPECT_LT(v.pixel_ray(0, 2).dir.x, 0.0f);
+}
+
 TEST_F(ExploreApi, TraceIsExplainOfThePixelsRay) {
     json req = view(16, 16);
     req["x"] = 8;

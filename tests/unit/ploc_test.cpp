@@ -4,11 +4,16 @@
 // agrees on one pair a round.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstring>
+#include <string>
 #include <random>
 #include <vector>
 
+#include "support/test_scenes.h"
+#include "thicket/accel/registry.h"
 #include "thicket/bvh/ploc.h"
+#include "thicket/scene/scene.h"
 
 namespace thicket::ploc_test {
 namespace {
@@ -140,6 +145,46 @@ TEST(Ploc, AChainOfWideningGapsIsPairedInOrderNotOnePairARound) {
     EXPECT_GT(c.forced_rounds, 0u);
     EXPECT_LE(c.cluster_visits, 5u * uint64_t(count));
     EXPECT_LE(c.iterations, 100u);
+}
+
+/// Small random triangles in clusters (as random_boxes), none degenerate.
+Scene clustered_triangles(int count, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    Scene scene;
+    for (int i = 0; i < count; ++i) {
+        const Vec3 c = Vec3(float(i % 5) * 3.0f, float(i % 2) * 2.0f, 0.0f) + Vec3(u(rng), u(rng), u(rng));
+        const uint32_t base = uint32_t(scene.mesh.positions.size());
+        scene.mesh.positions.insert(scene.mesh.positions.end(),
+                                    {c, c + Vec3(0.04f * u(rng), 0.04f, 0.0f), c + Vec3(0.0f, 0.04f * u(rng), 0.04f)});
+        scene.mesh.indices.insert(scene.mesh.indices.end(), {base, base + 1, base + 2});
+    }
+    return scene;
+}
+
+// Child order in PLOC's tree (issue 45): it is built bottom up, and each pair's order byte says
+// which child the ordered traversals enter first. A wrong byte answers right and visits far
+// children first, so it is counted: the traversals that read the byte (ordered-axis, ordered-
+// centroid) visit about what ordered-distance visits on the same tree (it compares the children's
+// entry distances and reads no byte). Planted: PLOC storing axis 0 for every pair fails it.
+TEST(Ploc, ItsChildOrderLeadsOrderedTraversalsNearlyAsWellAsEntryDistances) {
+    const Scene scene = clustered_triangles(20000, 11);
+    const std::vector<Ray> rays = testing::conformance_rays(scene, 4000, 2);
+    const auto visits = [&](const std::string& spec) {
+        const auto accel = build_accel(spec, scene);
+        RayCounters c;
+        for (const Ray& r : rays) accel->intersect(r, c);
+        return double(c.nodes);
+    };
+    for (const char* options : {"", ",max-leaf=1,radius=1"}) {
+        const double distance = visits(std::string("bvh:builder=ploc,traversal=ordered-distance") + options);
+        for (const char* traversal : {"ordered-axis", "ordered-centroid"}) {
+            const std::string spec = std::string("bvh:builder=ploc,traversal=") + traversal + options;
+            const double v = visits(spec);
+            std::printf("[ order    ] %s: %.0f nodes, ordered-distance %.0f\n", spec.c_str(), v, distance);
+            EXPECT_LE(v, 1.05 * distance) << spec;
+        }
+    }
 }
 
 }  // namespace

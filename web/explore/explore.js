@@ -15,6 +15,13 @@ window.thicketExplore = {
     while (state.pending.size) await Promise.allSettled([...state.pending]);
     return true;
   },
+  // Where the drawn view shows world point p: page coordinates in CSS pixels, through the camera
+  // three.js draws with (the browser test checks that a traced ray runs under the mouse).
+  project: (p) => {
+    const r = $('gl').getBoundingClientRect();
+    const v = new THREE.Vector3(p[0], p[1], p[2]).project(three.camera);
+    return [r.left + (v.x + 1) / 2 * r.width, r.top + (1 - v.y) / 2 * r.height];
+  },
 };
 /// Keeps `promise` among the pending work until it settles, and returns it.
 function track(promise) {

@@ -116,6 +116,19 @@ using BlockTestFn = uint32_t (*)(const Tri4& block, const Ray& ray, float tmax, 
 /// and with finite 1/dir on every axis, into hits[0..count): what ClosestFn answers for each ray
 /// (the primitive may differ only between primitives hit at the very same t).
 using PacketClosestFn = void (*)(const TraceContext& ctx, const Ray* rays, uint32_t count, Hit* hits);
+/// What a counting packet traversal did (issue 45: the packets' pruning is checked against single
+/// rays). Nodes the packet visited together: one box test of its 8 children against the whole
+/// packet, or one leaf entered by some of its rays. The single rays' own work: nodes of the
+/// subtrees rays finished alone, and every primitive test of every ray (in packet leaves too).
+struct PacketCounters {
+    uint64_t packet_nodes = 0;
+    uint64_t ray_nodes = 0;
+    uint64_t prims = 0;
+};
+/// PacketClosestFn counting into `counters` (the same hits; the octant read at run time, so the
+/// same visits as every octant's copy of the default tree's packet kernel).
+using CountingPacketClosestFn = void (*)(const TraceContext& ctx, const Ray* rays, uint32_t count, Hit* hits,
+                                         PacketCounters* counters);
 inline constexpr uint32_t kPacketSize = 16;
 
 /// A point query's leaf test, in the structure's baseline code (the point-triangle test brute
@@ -168,6 +181,7 @@ struct KernelTable {
     CompressedNodeTestFn node_test_compressed;
     BlockTestFn block_test;
     PacketClosestFn packet_closest[kLeafKinds];
+    CountingPacketClosestFn packet_closest_counting[kLeafKinds];
     PointQueryFn closest_point;
     AllHitsFn all_hits[kLeafKinds];  ///< null for leaves of shapes (Accel::all_hits answers)
     RecordFn record[kLeafKinds];     ///< one instantiation per leaf kind, the octant read at run time
