@@ -125,8 +125,10 @@ struct PacketCounters {
     uint64_t ray_nodes = 0;
     uint64_t prims = 0;
 };
-/// PacketClosestFn counting into `counters` (the same hits; the octant read at run time, so the
-/// same visits as every octant's copy of the default tree's packet kernel).
+/// PacketClosestFn counting into `counters`: the same hits, from the same source as every packet
+/// kernel with the octant read at run time (as every tree but the default one traces packets; the
+/// default tree's octant copies hand lone rays to the exact slab test, this one to the FMA test,
+/// which may enter a few more boxes).
 using CountingPacketClosestFn = void (*)(const TraceContext& ctx, const Ray* rays, uint32_t count, Hit* hits,
                                          PacketCounters* counters);
 inline constexpr uint32_t kPacketSize = 16;
