@@ -75,11 +75,9 @@ void compute_child_order(BvhData& bvh) {
     for (uint32_t n = 0; n < bvh.nodes_used; ++n) {
         const BvhNode& node = bvh.nodes[n];
         if (n == 1 || node.is_leaf()) continue;
-        const Vec3 cl = bvh.nodes[node.leftFirst].bounds().center();
-        const Vec3 cr = bvh.nodes[node.leftFirst + 1].bounds().center();
-        const int axis = max_axis(abs(cr - cl));
-        const int split = ChildOrder::split_axis(bvh.child_order[n]);
-        bvh.child_order[n] = ChildOrder::pack(split, axis, cl[axis] > cr[axis], cl[split] > cr[split]);
+        bvh.child_order[n] = ChildOrder::from_children(ChildOrder::split_axis(bvh.child_order[n]),
+                                                       bvh.nodes[node.leftFirst].bounds(),
+                                                       bvh.nodes[node.leftFirst + 1].bounds());
     }
 }
 

@@ -31,11 +31,8 @@ void refit_bvh(BvhData& bvh, std::span<const Aabb> prim_bounds) {
             box.grow(right);
             // The ordered traversals' hints, recomputed as the build does (compute_child_order):
             // a mirror or a turn can put the left child on the higher side of its split axis.
-            const Vec3 cl = left.center(), cr = right.center();
-            const int axis = max_axis(abs(cr - cl));
             uint8_t& order_byte = bvh.child_order[order[k]];
-            const int split = ChildOrder::split_axis(order_byte);
-            order_byte = ChildOrder::pack(split, axis, cl[axis] > cr[axis], cl[split] > cr[split]);
+            order_byte = ChildOrder::from_children(ChildOrder::split_axis(order_byte), left, right);
         }
         node.aabbMin = box.min;
         node.aabbMax = box.max;

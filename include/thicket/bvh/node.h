@@ -39,6 +39,13 @@ struct ChildOrder {
     static int centroid_axis(uint8_t b) { return (b >> 2) & 3; }
     static bool left_is_higher(uint8_t b) { return (b & 16) != 0; }
     static bool split_left_higher(uint8_t b) { return (b & 32) != 0; }
+    /// The byte of an interior node whose split axis is `split_axis`, every other bit from its
+    /// children's boxes' centres (the build's compute_child_order and every refit).
+    static uint8_t from_children(int split_axis, const Aabb& left, const Aabb& right) {
+        const Vec3 cl = left.center(), cr = right.center();
+        const int axis = max_axis(abs(cr - cl));
+        return pack(split_axis, axis, cl[axis] > cr[axis], cl[split_axis] > cr[split_axis]);
+    }
     /// Every bit a valid byte may set.
     static constexpr uint8_t kBits = 64;
 };
