@@ -61,6 +61,13 @@ Split block_split(BuildContext& ctx, const NodeRange& node, uint32_t depth) {
     const auto& centroids = ctx.prims.centroids;
     const auto& bounds = ctx.prims.bounds;
     uint32_t* idx = ctx.indices.data() + node.first;
+    const bool deep = depth >= kMaxSahDepth;  // past it only halving, which bounds the depth
+    // A node of one block at most that may stay a leaf stays one: every split of it costs at
+    // least kSahTraversalCost plus one block on each side's area share, so never less than the
+    // leaf's one block (sah_split_cost; with zero area or NaN boxes more, or no decision), and the
+    // sweep below would return the leaf anyway. Exact: the same tree, without three sorts.
+    static_assert(kSahTraversalCost >= kSahIntersectionCost, "a split of one block must cost the leaf's block or more");
+    if (n <= block && !deep && n <= uint32_t(ctx.options.max_leaf)) return {};
 
     // Each axis's order of the node's primitives (kBlockPackMax of them at most: on the stack).
     std::array<std::array<uint32_t, kBlockPackMax>, 3> order;
@@ -69,7 +76,6 @@ Split block_split(BuildContext& ctx, const NodeRange& node, uint32_t depth) {
     float best_cost = kInfinity;
     int best_axis = -1;
     uint32_t best_left = 0;
-    const bool deep = depth >= kMaxSahDepth;  // past it only halving, which bounds the depth
     for (int axis = 0; axis < 3; ++axis) {
         uint32_t* o = order[size_t(axis)].data();
         sort_by_centroid(idx, n, centroids, axis, o);
